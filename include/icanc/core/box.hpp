@@ -1,0 +1,27 @@
+// 3D boxes fitted to clusters, and the overlap measure the tracker gates on.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "icanc/core/types.hpp"
+
+namespace icanc {
+
+struct Box3D {
+  Eigen::Vector3f center = Eigen::Vector3f::Zero();  // centre of the oriented box [m]
+  Eigen::Vector3f size = Eigen::Vector3f::Zero();    // length (along yaw), width, height [m]
+  float yaw = 0.0f;                                  // oriented box yaw about +z [rad], in (-pi/2, pi/2]
+  Eigen::Vector3f min = Eigen::Vector3f::Zero();     // axis-aligned bounds [m]
+  Eigen::Vector3f max = Eigen::Vector3f::Zero();
+  int num_points = 0;
+};
+
+// Fits both boxes to the given points (indices into cloud; all points when indices is null):
+// axis-aligned bounds from min/max, oriented box from OpenCV's minimum-area rectangle of the
+// points' x/y with z from min/max. An empty point set gives a zero box with num_points = 0.
+Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices = nullptr);
+
+// Intersection over union of the axis-aligned boxes seen from above (x/y only), in [0, 1].
+float bevIoU(const Box3D& a, const Box3D& b);
+
+}  // namespace icanc

@@ -1,0 +1,23 @@
+// Euclidean clustering (PCL EuclideanClusterExtraction with a k-d tree) and box fitting.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "icanc/core/box.hpp"
+#include "icanc/core/types.hpp"
+
+namespace icanc {
+
+struct ClusterParams {
+  float tolerance_m = 0.6f;  // neighbour distance [m]
+  int min_points = 10;
+  int max_points = 5000;
+};
+
+std::string validate(const ClusterParams& params);
+
+// Clusters `cloud` and returns one fitted box per cluster, largest cluster first.
+std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params);
+
+}  // namespace icanc

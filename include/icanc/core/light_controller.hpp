@@ -1,0 +1,65 @@
+// The headlight state machine of the paper (Fig. "State diagram for the Light Controller"), with
+// a fail-safe input watchdog. Time is always an argument (seconds, e.g. header stamps or sim
+// time), never read from a clock.
+//
+//   OFF --danger--> ON, timer = tau
+//   ON: timer > recheck_below (1 s): danger ignored; timer <= 1 s: danger resets timer to tau
+//   ON --timer reaches 0--> OFF
+//
+// Fail-safe: while no input has arrived for stale_timeout (or none has arrived yet) the lamp is ON
+// with reason kSensorStale; it returns to the timer's state when input resumes. Time going
+// backwards (a bag loop) resets the machine to "no input yet", i.e. ON until input resumes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace icanc {
+
+struct LightControllerParams {
+  double tau_s = 3.0;            // timer length [s] (paper: 3; reference launch files: 2)
+  double recheck_below_s = 1.0;  // danger resets the timer only when at most this is left [s]
+  double stale_timeout_s = 0.3;  // watchdog: lamp on without input for this long; 0 disables
+};
+
+std::string validate(const LightControllerParams& params);
+
+enum class LightReason : std::uint8_t { kOff = 0, kDanger = 1, kSensorStale = 2 };
+const char* toString(LightReason reason);
+
+class LightController {
+ public:
+  explicit LightController(const LightControllerParams& params = LightControllerParams());
+
+  // Output of the danger detector arrived at `now`: valid input, with or without danger.
+  // Returns true when the timer was started or reset by it.
+  bool onInput(double now, bool any_danger);
+
+  // Advances the clock without input: timer expiry and watchdog. Returns true when on() or
+  // reason() changed.
+  bool tick(double now);
+
+  bool on() const { return timer_running_ || stale_; }
+  LightReason reason() const;
+  double timeLeft(double now) const;
+  // Time of the last input that started or reset the timer (valid after the first trigger).
+  double lastTriggerTime() const { return last_trigger_s_; }
+
+  void setParams(const LightControllerParams& params) { params_ = params; }
+  const LightControllerParams& params() const { return params_; }
+
+ private:
+  void reset();
+
+  LightControllerParams params_;
+  bool timer_running_ = false;
+  double timer_end_s_ = 0.0;
+  double last_trigger_s_ = 0.0;
+  bool has_input_ = false;
+  double last_input_s_ = 0.0;
+  bool has_now_ = false;
+  double last_now_s_ = 0.0;
+  bool stale_ = true;
+};
+
+}  // namespace icanc

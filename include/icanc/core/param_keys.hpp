@@ -1,0 +1,50 @@
+// The one list of parameter keys (as in config/*.yaml) for each core parameter struct. A reader
+// is any callable `reader(key, value&)`: the ROS ParamReader (rosparam) and the YAML reader
+// (icanc/core/yaml_params.hpp) both walk these lists, so a key is spelled in one place only.
+#pragma once
+
+#include "icanc/core/danger.hpp"
+#include "icanc/core/light_controller.hpp"
+#include "icanc/core/obstacle_detector.hpp"
+
+namespace icanc {
+
+template <class Reader>
+void visitParams(Reader& r, ObstacleDetectorParams& p) {
+  r("prep/roi_min", p.prep.roi_min);
+  r("prep/roi_max", p.prep.roi_max);
+  r("prep/remove_ego", p.prep.remove_ego);
+  r("prep/ego_min", p.prep.ego_min);
+  r("prep/ego_max", p.prep.ego_max);
+  r("prep/voxel_leaf_m", p.prep.voxel_leaf_m);
+  r("ground/enabled", p.ground.enabled);
+  r("ground/max_iterations", p.ground.max_iterations);
+  r("ground/distance_threshold_m", p.ground.distance_threshold_m);
+  r("ground/max_slope_deg", p.ground.max_slope_deg);
+  r("cluster/tolerance_m", p.cluster.tolerance_m);
+  r("cluster/min_points", p.cluster.min_points);
+  r("cluster/max_points", p.cluster.max_points);
+  r("tracker/gate_distance_m", p.tracker.gate_distance_m);
+  r("tracker/iou_weight", p.tracker.iou_weight);
+  r("tracker/min_hits_to_confirm", p.tracker.min_hits_to_confirm);
+  r("tracker/max_missed_frames", p.tracker.max_missed_frames);
+  r("tracker/accel_std", p.tracker.accel_std);
+  r("tracker/measurement_std_m", p.tracker.measurement_std_m);
+  r("tracker/initial_velocity_std", p.tracker.initial_velocity_std);
+  r("tracker/max_dt_s", p.tracker.max_dt_s);
+}
+
+template <class Reader>
+void visitParams(Reader& r, DangerParams& p) {
+  r("half_width_m", p.half_width_m);
+  r("reaction_time_s", p.reaction_time_s);
+}
+
+template <class Reader>
+void visitParams(Reader& r, LightControllerParams& p) {
+  r("tau_s", p.tau_s);
+  r("recheck_below_s", p.recheck_below_s);
+  r("stale_timeout_s", p.stale_timeout_s);
+}
+
+}  // namespace icanc

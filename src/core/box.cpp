@@ -1,0 +1,60 @@
+#include "icanc/core/box.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icanc {
+
+Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices) {
+  Box3D box;
+  const std::size_t n = indices ? indices->size() : cloud.size();
+  if (n == 0) return box;
+
+  const float inf = std::numeric_limits<float>::infinity();
+  Eigen::Vector3f lo(inf, inf, inf), hi(-inf, -inf, -inf);
+  std::vector<cv::Point2f> xy;
+  xy.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Point& p = cloud[indices ? static_cast<std::size_t>((*indices)[k]) : k];
+    const Eigen::Vector3f v(p.x, p.y, p.z);
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+    xy.emplace_back(p.x, p.y);
+  }
+  box.min = lo;
+  box.max = hi;
+  box.num_points = static_cast<int>(n);
+
+  // Oriented box: OpenCV's minimum-area rectangle of the footprint.
+  const cv::RotatedRect rect = cv::minAreaRect(xy);
+  float length = rect.size.width, width = rect.size.height;
+  float yaw = rect.angle * static_cast<float>(M_PI / 180.0);
+  if (width > length) {  // length is the longer side; yaw follows it
+    std::swap(length, width);
+    yaw += static_cast<float>(M_PI / 2.0);
+  }
+  // Normalise to (-pi/2, pi/2]: a box is symmetric under a half turn.
+  while (yaw > static_cast<float>(M_PI / 2.0)) yaw -= static_cast<float>(M_PI);
+  while (yaw <= -static_cast<float>(M_PI / 2.0)) yaw += static_cast<float>(M_PI);
+
+  box.center = Eigen::Vector3f(rect.center.x, rect.center.y, 0.5f * (lo.z() + hi.z()));
+  box.size = Eigen::Vector3f(length, width, hi.z() - lo.z());
+  box.yaw = yaw;
+  return box;
+}
+
+float bevIoU(const Box3D& a, const Box3D& b) {
+  const float ix = std::min(a.max.x(), b.max.x()) - std::max(a.min.x(), b.min.x());
+  const float iy = std::min(a.max.y(), b.max.y()) - std::max(a.min.y(), b.min.y());
+  if (ix <= 0.0f || iy <= 0.0f) return 0.0f;
+  const float inter = ix * iy;
+  const float area_a = (a.max.x() - a.min.x()) * (a.max.y() - a.min.y());
+  const float area_b = (b.max.x() - b.min.x()) * (b.max.y() - b.min.y());
+  const float uni = area_a + area_b - inter;
+  return uni > 0.0f ? inter / uni : 0.0f;
+}
+
+}  // namespace icanc

@@ -1,0 +1,81 @@
+// icanc/DangerDetector: marks each obstacle with the paper's rule (icanc/danger.hpp) and
+// republishes the array with num_dangerous. Glue only.
+#include <memory>
+#include <mutex>
+
+#include <boost/make_shared.hpp>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include "icanc/ObstacleArray.h"
+#include "icanc/core/danger.hpp"
+#include "icanc/ros/conversions.hpp"
+#include "icanc/ros/nodelet_support.hpp"
+#include "icanc/ros/zero_copy.hpp"
+
+namespace icanc {
+
+class DangerDetectorNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    ParamReader reader(pnh);
+    readParams(reader, params_);
+    bool trace = false;
+    reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
+    if (!checkParams(getName(), reader, validate(params_))) return;
+
+    diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "danger"));
+    diagnostics_->updater().add("danger detector", this, &DangerDetectorNodelet::diagnose);
+    pub_.advertise<ObstacleArray>(nh, pnh, "obstacles_danger", 5);
+    sub_ = nh.subscribe("obstacles", 5, &DangerDetectorNodelet::onObstacles, this);
+    NODELET_INFO("DangerDetector: half_width %.2f m, reaction_time %.2f s", params_.half_width_m,
+                 params_.reaction_time_s);
+  }
+
+  void onObstacles(const ObstacleArray::ConstPtr& msg) {
+    auto out = boost::make_shared<ObstacleArray>(*msg);
+    std::uint32_t dangerous = 0;
+    for (Obstacle& o : out->obstacles) {
+      const DangerAssessment a = assessDanger(toKinematics(o), params_);
+      o.section = static_cast<std::uint8_t>(a.section);
+      o.closest_distance = static_cast<float>(a.distance_m);
+      o.moving_toward = a.moving_toward;
+      o.dangerous = a.dangerous;
+      dangerous += a.dangerous;
+    }
+    out->num_dangerous = dangerous;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++messages_;
+      dangerous_total_ += dangerous;
+      last_dangerous_ = dangerous;
+      last_obstacles_ = out->obstacles.size();
+    }
+    pub_.publish(ObstacleArray::ConstPtr(out));
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    stat.add("arrays processed", messages_);
+    stat.add("dangerous object-frames", dangerous_total_);
+    stat.add("obstacles (last array)", last_obstacles_);
+    stat.add("dangerous (last array)", last_dangerous_);
+    stat.add("half_width_m", params_.half_width_m);
+    stat.add("reaction_time_s", params_.reaction_time_s);
+  }
+
+  DangerParams params_;
+  std::unique_ptr<Diagnostics> diagnostics_;
+  ZeroCopyPublisher pub_;
+  ros::Subscriber sub_;
+  std::mutex mutex_;
+  std::uint64_t messages_ = 0, dangerous_total_ = 0;
+  std::size_t last_obstacles_ = 0, last_dangerous_ = 0;
+};
+
+}  // namespace icanc
+
+PLUGINLIB_EXPORT_CLASS(icanc::DangerDetectorNodelet, nodelet::Nodelet)

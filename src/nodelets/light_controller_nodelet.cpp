@@ -1,0 +1,134 @@
+// icanc/LightController: the paper's timer state machine (icanc/light_controller.hpp) over the
+// DangerDetector's output. Publishes icanc/LightState and std_msgs/Bool on every change and at a
+// steady rate. Time is ROS time (sim time during replay).
+#include <memory>
+#include <mutex>
+
+#include <boost/make_shared.hpp>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <std_msgs/Bool.h>
+
+#include "icanc/LightState.h"
+#include "icanc/ObstacleArray.h"
+#include "icanc/core/light_controller.hpp"
+#include "icanc/ros/nodelet_support.hpp"
+#include "icanc/ros/zero_copy.hpp"
+
+namespace icanc {
+
+class LightControllerNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    ParamReader reader(pnh);
+    LightControllerParams params;
+    readParams(reader, params);
+    reader.read("publish_rate_hz", publish_rate_hz_);
+    reader.read("tick_rate_hz", tick_rate_hz_);
+    bool trace = false;
+    reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
+    std::string why = validate(params);
+    if (why.empty() && !(publish_rate_hz_ > 0.0)) why = "publish_rate_hz must be > 0";
+    if (why.empty() && !(tick_rate_hz_ >= publish_rate_hz_))
+      why = "tick_rate_hz must be >= publish_rate_hz";
+    if (!checkParams(getName(), reader, why)) return;
+    controller_.reset(new LightController(params));
+
+    diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight"));
+    diagnostics_->updater().add("light controller", this, &LightControllerNodelet::diagnose);
+    state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
+    lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
+    sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
+    timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
+    NODELET_INFO("LightController: tau %.2f s, recheck below %.2f s, watchdog %.2f s",
+                 params.tau_s, params.recheck_below_s, params.stale_timeout_s);
+  }
+
+  void onDanger(const ObstacleArray::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::Time now = ros::Time::now();
+    const bool was_on = controller_->on();
+    const LightReason was_reason = controller_->reason();
+    ++inputs_;
+    if (controller_->onInput(now.toSec(), msg->num_dangerous > 0)) {
+      ++triggers_;
+      trigger_cloud_stamp_ = msg->header.stamp;
+      trigger_receive_time_ = msg->cloud_receive_time;
+      trigger_dangerous_ = msg->num_dangerous;
+      publish(now);  // a (re)started timer is news even when the lamp was already on
+    } else if (was_on != controller_->on() || was_reason != controller_->reason()) {
+      publish(now);
+    }
+  }
+
+  void onTick(const ros::TimerEvent&) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::Time now = ros::Time::now();
+    const bool changed = controller_->tick(now.toSec());
+    if (changed && controller_->reason() == LightReason::kSensorStale) {
+      ++stale_events_;
+      NODELET_WARN("no input on %s for %.2f s: lamp ON (fail-safe)", sub_.getTopic().c_str(),
+                   controller_->params().stale_timeout_s);
+    }
+    if (changed || (now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_)
+      publish(now);
+  }
+
+  void publish(const ros::Time& now) {
+    auto state = boost::make_shared<LightState>();
+    state->header.stamp = now;
+    state->on = controller_->on();
+    state->reason = static_cast<std::uint8_t>(controller_->reason());
+    state->reason_text = toString(controller_->reason());
+    state->time_left = static_cast<float>(controller_->timeLeft(now.toSec()));
+    state->dangerous_objects = trigger_dangerous_;
+    state->cloud_stamp = trigger_cloud_stamp_;
+    state->cloud_receive_time = trigger_receive_time_;
+    auto lamp = boost::make_shared<std_msgs::Bool>();
+    lamp->data = state->on;
+    if (state->on != last_on_) ++transitions_;
+    last_on_ = state->on;
+    last_publish_ = now;
+    state_pub_.publish(LightState::ConstPtr(state));
+    lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const LightReason reason = controller_->reason();
+    if (reason == LightReason::kSensorStale)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "lamp on: sensor stale (fail-safe)");
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, std::string("lamp ") +
+                   (controller_->on() ? "on: " : "off: ") + toString(reason));
+    stat.add("lamp on", controller_->on());
+    stat.add("reason", toString(reason));
+    stat.add("inputs", inputs_);
+    stat.add("timer starts/resets", triggers_);
+    stat.add("lamp transitions", transitions_);
+    stat.add("sensor stale events", stale_events_);
+  }
+
+  std::unique_ptr<LightController> controller_;
+  std::unique_ptr<Diagnostics> diagnostics_;
+  ZeroCopyPublisher state_pub_;
+  ros::Publisher lamp_pub_;
+  ros::Subscriber sub_;
+  ros::Timer timer_;
+  double publish_rate_hz_ = 10.0;
+  double tick_rate_hz_ = 50.0;
+
+  std::mutex mutex_;  // subscriber, timer and diagnostics callbacks
+  ros::Time last_publish_;
+  bool last_on_ = true;
+  ros::Time trigger_cloud_stamp_;
+  ros::Time trigger_receive_time_;
+  std::uint32_t trigger_dangerous_ = 0;
+  std::uint64_t inputs_ = 0, triggers_ = 0, transitions_ = 0, stale_events_ = 0;
+};
+
+}  // namespace icanc
+
+PLUGINLIB_EXPORT_CLASS(icanc::LightControllerNodelet, nodelet::Nodelet)

@@ -1,0 +1,199 @@
+// icanc/ObstacleDetector: PointCloud2 in, icanc/ObstacleArray out. Glue only: decoding checks,
+// tf2, parameters and diagnostics here; every algorithm is in icanc::ObstacleDetector.
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include <boost/make_shared.hpp>
+#include <diagnostic_updater/publisher.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "icanc/ObstacleArray.h"
+#include "icanc/core/cloud_decode.hpp"
+#include "icanc/core/obstacle_detector.hpp"
+#include "icanc/ros/conversions.hpp"
+#include "icanc/ros/nodelet_support.hpp"
+#include "icanc/ros/zero_copy.hpp"
+
+namespace icanc {
+
+class ObstacleDetectorNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+
+    ParamReader reader(pnh);
+    ObstacleDetectorParams params;
+    readParams(reader, params);
+    reader.read("target_frame", target_frame_);
+    reader.read("max_points", max_points_);
+    reader.read("expected_rate_hz", expected_rate_hz_);
+    reader.read("trace_publications", trace_unused_);  // read by ZeroCopyPublisher
+    std::string why = validate(params);
+    if (why.empty() && max_points_ <= 0) why = "max_points must be > 0";
+    if (why.empty() && expected_rate_hz_ <= 0.0) why = "expected_rate_hz must be > 0";
+    if (!checkParams(getName(), reader, why)) return;
+
+    detector_.reset(new ObstacleDetector(params));
+    tf_buffer_.reset(new tf2_ros::Buffer());
+    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
+
+    diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "lidar"));
+    min_rate_hz_ = expected_rate_hz_ * 0.8;  // warn when the input drops below 80 %
+    max_rate_hz_ = expected_rate_hz_ * 1.5;
+    rate_.reset(new diagnostic_updater::HeaderlessTopicDiagnostic(
+        "input cloud", diagnostics_->updater(),
+        diagnostic_updater::FrequencyStatusParam(&min_rate_hz_, &max_rate_hz_, 0.0, 10)));
+    diagnostics_->updater().add("obstacle detector", this, &ObstacleDetectorNodelet::diagnose);
+
+    pub_.advertise<ObstacleArray>(nh, pnh, "obstacles", 5);
+    sub_ = nh.subscribe("points", 2, &ObstacleDetectorNodelet::onCloud, this);
+    NODELET_INFO("ObstacleDetector on %s -> %s (boxes in '%s')", sub_.getTopic().c_str(),
+                 nh.resolveName("obstacles").c_str(),
+                 target_frame_.empty() ? "<cloud frame>" : target_frame_.c_str());
+  }
+
+  // Sensor -> target frame at the cloud's stamp (latest transform as a fallback). On failure,
+  // boxes stay in the sensor frame, with a throttled warning.
+  std::string lookupTransform(const std_msgs::Header& header, Eigen::Affine3f& transform) {
+    transform.setIdentity();
+    if (target_frame_.empty() || target_frame_ == header.frame_id) return header.frame_id;
+    try {
+      geometry_msgs::TransformStamped t;
+      try {
+        t = tf_buffer_->lookupTransform(target_frame_, header.frame_id, header.stamp);
+      } catch (const tf2::ExtrapolationException&) {
+        t = tf_buffer_->lookupTransform(target_frame_, header.frame_id, ros::Time(0));
+      }
+      transform = tf2::transformToEigen(t).cast<float>();
+      return target_frame_;
+    } catch (const tf2::TransformException& e) {
+      ++tf_failures_;
+      NODELET_WARN_THROTTLE(5.0, "no transform %s -> %s (%s): publishing boxes in %s",
+                            header.frame_id.c_str(), target_frame_.c_str(), e.what(),
+                            header.frame_id.c_str());
+      return header.frame_id;
+    }
+  }
+
+  void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+    const ros::WallTime received = ros::WallTime::now();
+    std::lock_guard<std::mutex> lock(mutex_);
+    rate_->tick();
+    ++received_;
+
+    Eigen::Affine3f to_target;
+    const std::string frame = lookupTransform(msg->header, to_target);
+    DecodeStats stats;
+    const DecodeError error =
+        decodeXYZ(toRawCloud(*msg), to_target, static_cast<std::size_t>(max_points_), cloud_, &stats);
+    if (error != DecodeError::kNone) {
+      ++invalid_[error];
+      NODELET_ERROR_THROTTLE(1.0, "dropping cloud (frame '%s', %ux%u, %zu bytes): %s",
+                             msg->header.frame_id.c_str(), msg->width, msg->height,
+                             msg->data.size(), toString(error));
+      return;  // not valid input: the light controller's watchdog sees the gap
+    }
+    dropped_points_ += stats.dropped_nonfinite + stats.dropped_zero;
+
+    if (!last_frame_.empty() && frame != last_frame_) {
+      ++frame_changes_;
+      NODELET_WARN("output frame changed from '%s' to '%s': tracker reset", last_frame_.c_str(),
+                   frame.c_str());
+      detector_->reset();
+    }
+    last_frame_ = frame;
+
+    StageTimes times;
+    const auto result = detector_->process(msg->header.stamp.toSec(), cloud_, &times);
+    if (result == MultiObjectTracker::UpdateResult::kResetTimeBackwards) {
+      ++time_resets_;
+      NODELET_WARN_THROTTLE(1.0, "cloud stamp went backwards (bag loop?): tracker reset");
+    } else if (result == MultiObjectTracker::UpdateResult::kResetGap) {
+      ++gap_resets_;
+      NODELET_WARN_THROTTLE(1.0, "gap between clouds above tracker/max_dt_s: tracker reset");
+    }
+
+    auto out = boost::make_shared<ObstacleArray>();
+    out->header.stamp = msg->header.stamp;
+    out->header.frame_id = frame;
+    out->cloud_receive_time.fromNSec(received.toNSec());
+    for (const Track& track : detector_->tracks()) {
+      if (!track.confirmed) continue;
+      out->obstacles.emplace_back();
+      toObstacleMsg(track, out->obstacles.back());
+    }
+    out->processing_ms = static_cast<float>((ros::WallTime::now() - received).toSec() * 1e3);
+    last_times_ = times;
+    last_obstacles_ = out->obstacles.size();
+    last_processing_ms_ = out->processing_ms;
+    ++published_;
+    pub_.publish(ObstacleArray::ConstPtr(out));
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::uint64_t invalid = 0;
+    for (const auto& kv : invalid_) {
+      invalid += kv.second;
+      stat.add(std::string("invalid clouds: ") + toString(kv.first), kv.second);
+    }
+    if (invalid > reported_invalid_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid clouds dropped");
+    else if (tf_failures_ > reported_tf_failures_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "transform to target frame missing");
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    reported_invalid_ = invalid;
+    reported_tf_failures_ = tf_failures_;
+    stat.add("clouds received", received_);
+    stat.add("obstacle arrays published", published_);
+    stat.add("invalid clouds", invalid);
+    stat.add("points dropped (NaN/Inf/zero)", dropped_points_);
+    stat.add("transform failures", tf_failures_);
+    stat.add("tracker resets: time backwards", time_resets_);
+    stat.add("tracker resets: gap", gap_resets_);
+    stat.add("output frame changes", frame_changes_);
+    stat.add("obstacles (last frame)", last_obstacles_);
+    stat.add("processing ms (last frame)", last_processing_ms_);
+    stat.add("prep ms", last_times_.prep_ms);
+    stat.add("ground ms", last_times_.ground_ms);
+    stat.add("cluster ms", last_times_.cluster_ms);
+    stat.add("track ms", last_times_.track_ms);
+  }
+
+  std::unique_ptr<ObstacleDetector> detector_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<Diagnostics> diagnostics_;
+  std::unique_ptr<diagnostic_updater::HeaderlessTopicDiagnostic> rate_;
+  ZeroCopyPublisher pub_;
+  ros::Subscriber sub_;
+
+  std::string target_frame_ = "base_link";
+  int max_points_ = 2000000;
+  double expected_rate_hz_ = 10.0;
+  bool trace_unused_ = false;
+  double min_rate_hz_ = 0.0, max_rate_hz_ = 0.0;
+
+  std::mutex mutex_;  // the cloud callback and the diagnostics timer
+  Cloud cloud_;
+  std::string last_frame_;
+  std::map<DecodeError, std::uint64_t> invalid_;
+  std::uint64_t received_ = 0, published_ = 0, dropped_points_ = 0, tf_failures_ = 0;
+  std::uint64_t time_resets_ = 0, gap_resets_ = 0, frame_changes_ = 0;
+  std::uint64_t reported_invalid_ = 0, reported_tf_failures_ = 0;
+  std::size_t last_obstacles_ = 0;
+  double last_processing_ms_ = 0.0;
+  StageTimes last_times_;
+};
+
+}  // namespace icanc
+
+PLUGINLIB_EXPORT_CLASS(icanc::ObstacleDetectorNodelet, nodelet::Nodelet)

@@ -1,0 +1,62 @@
+#include "icanc/ros/conversions.hpp"
+
+#include <cmath>
+
+namespace icanc {
+
+RawCloud toRawCloud(const sensor_msgs::PointCloud2& msg) {
+  RawCloud raw;
+  raw.width = msg.width;
+  raw.height = msg.height;
+  raw.point_step = msg.point_step;
+  raw.row_step = msg.row_step;
+  raw.is_bigendian = msg.is_bigendian;
+  raw.fields.reserve(msg.fields.size());
+  for (const auto& f : msg.fields) raw.fields.push_back({f.name, f.offset, f.datatype, f.count});
+  raw.data = msg.data.data();
+  raw.data_size = msg.data.size();
+  return raw;
+}
+
+void toObstacleMsg(const Track& track, Obstacle& out) {
+  const Eigen::Vector3d p = track.filter.position();
+  const Eigen::Vector3d v = track.velocity();
+  out.id = track.id;
+  out.pose.position.x = p.x();
+  out.pose.position.y = p.y();
+  out.pose.position.z = p.z();
+  out.pose.orientation.x = 0.0;
+  out.pose.orientation.y = 0.0;
+  out.pose.orientation.z = std::sin(0.5 * track.box.yaw);
+  out.pose.orientation.w = std::cos(0.5 * track.box.yaw);
+  out.dimensions.x = track.box.size.x();
+  out.dimensions.y = track.box.size.y();
+  out.dimensions.z = track.box.size.z();
+  out.aabb_min.x = track.box.min.x();
+  out.aabb_min.y = track.box.min.y();
+  out.aabb_min.z = track.box.min.z();
+  out.aabb_max.x = track.box.max.x();
+  out.aabb_max.y = track.box.max.y();
+  out.aabb_max.z = track.box.max.z();
+  out.velocity.x = v.x();
+  out.velocity.y = v.y();
+  out.velocity.z = v.z();
+  out.speed = getSpeedOfObject(v);
+  out.heading = headingDeg(v);
+  out.velocity_std = track.velocityStd();
+  out.age = track.age;
+  out.hits = track.hits;
+  out.missed = track.missed;
+  out.num_points = track.box.num_points;
+}
+
+ObjectKinematics toKinematics(const Obstacle& o) {
+  ObjectKinematics k;
+  k.center = Eigen::Vector3d(o.pose.position.x, o.pose.position.y, o.pose.position.z);
+  k.aabb_min = Eigen::Vector3d(o.aabb_min.x, o.aabb_min.y, o.aabb_min.z);
+  k.aabb_max = Eigen::Vector3d(o.aabb_max.x, o.aabb_max.y, o.aabb_max.z);
+  k.velocity = Eigen::Vector3d(o.velocity.x, o.velocity.y, o.velocity.z);
+  return k;
+}
+
+}  // namespace icanc

@@ -1,0 +1,134 @@
+#include "icanc/sim/scenario.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+namespace icanc {
+namespace sim {
+namespace {
+
+struct Context {
+  std::string path;
+  [[noreturn]] void fail(const std::string& key, const std::string& why) const {
+    throw std::runtime_error(path + ": " + key + ": " + why);
+  }
+};
+
+template <class T>
+T get(const YAML::Node& node, const std::string& key, const T& fallback, const Context& ctx) {
+  const YAML::Node value = node[key];
+  if (!value) return fallback;
+  try {
+    return value.as<T>();
+  } catch (const YAML::Exception& e) {
+    ctx.fail(key, std::string("cannot read value: ") + e.what());
+  }
+}
+
+Eigen::Vector3f getVector(const YAML::Node& node, const std::string& key,
+                          const Eigen::Vector3f& fallback, const Context& ctx) {
+  const YAML::Node value = node[key];
+  if (!value) return fallback;
+  if (!value.IsSequence() || value.size() != 3) ctx.fail(key, "must be a list of 3 numbers");
+  Eigen::Vector3f v;
+  try {
+    for (int i = 0; i < 3; ++i) v[i] = value[i].as<float>();
+  } catch (const YAML::Exception& e) {
+    ctx.fail(key, std::string("must be a list of 3 numbers: ") + e.what());
+  }
+  return v;
+}
+
+SceneObject readObject(const YAML::Node& node, std::uint32_t default_id, const Context& ctx) {
+  SceneObject o;
+  o.id = get<std::uint32_t>(node, "id", default_id, ctx);
+  o.type = get<std::string>(node, "type", "object", ctx);
+  const std::string shape = get<std::string>(node, "shape", "box", ctx);
+  if (shape == "box") o.shape = Shape::kBox;
+  else if (shape == "cylinder") o.shape = Shape::kCylinder;
+  else ctx.fail("objects[" + std::to_string(default_id) + "].shape", "box or cylinder, got " + shape);
+  o.size = getVector(node, "size", o.size, ctx);
+  o.yaw = get<float>(node, "yaw_deg", 0.0f, ctx) * static_cast<float>(M_PI / 180.0);
+  o.position = getVector(node, "position", o.position, ctx);
+  o.velocity = getVector(node, "velocity", o.velocity, ctx);
+  o.start_s = get<double>(node, "start_s", o.start_s, ctx);
+  o.stop_s = get<double>(node, "stop_s", o.stop_s, ctx);
+  if ((o.size.array() <= 0.0f).any())
+    ctx.fail("objects[" + std::to_string(default_id) + "].size", "every side must be > 0");
+  if (o.stop_s < o.start_s)
+    ctx.fail("objects[" + std::to_string(default_id) + "].stop_s", "must be >= start_s");
+  return o;
+}
+
+}  // namespace
+
+Eigen::Isometry3f Scenario::vehiclePose(double t) const {
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translation() = ego_velocity * static_cast<float>(t);
+  return pose;
+}
+
+std::size_t Scenario::frames() const {
+  return static_cast<std::size_t>(std::floor(duration_s * rate_hz + 1e-9)) + 1;
+}
+
+Scenario loadScenario(const std::string& path) {
+  const Context ctx{path};
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  if (!root.IsMap()) throw std::runtime_error(path + ": not a YAML mapping");
+
+  Scenario s;
+  s.name = get<std::string>(root, "name", path, ctx);
+  s.description = get<std::string>(root, "description", "", ctx);
+  s.duration_s = get<double>(root, "duration_s", s.duration_s, ctx);
+  s.rate_hz = get<double>(root, "rate_hz", s.rate_hz, ctx);
+  s.seed = get<std::uint64_t>(root, "seed", s.seed, ctx);
+  if (!(s.duration_s > 0.0)) ctx.fail("duration_s", "must be > 0");
+  if (!(s.rate_hz > 0.0 && s.rate_hz <= 100.0)) ctx.fail("rate_hz", "must be in (0, 100]");
+
+  if (const YAML::Node sensor = root["sensor"]) {
+    s.lidar = get<std::string>(sensor, "model", s.lidar, ctx);
+    s.sensor_frame = get<std::string>(sensor, "frame", s.sensor_frame, ctx);
+    const Eigen::Vector3f xyz = getVector(sensor, "mount_xyz", Eigen::Vector3f::Zero(), ctx);
+    const Eigen::Vector3f rpy =
+        getVector(sensor, "mount_rpy_deg", Eigen::Vector3f::Zero(), ctx) * static_cast<float>(M_PI / 180.0);
+    s.sensor_mount = Eigen::Translation3f(xyz) *
+                     Eigen::AngleAxisf(rpy.z(), Eigen::Vector3f::UnitZ()) *
+                     Eigen::AngleAxisf(rpy.y(), Eigen::Vector3f::UnitY()) *
+                     Eigen::AngleAxisf(rpy.x(), Eigen::Vector3f::UnitX());
+  }
+  try {
+    LidarModel::byName(s.lidar);
+  } catch (const std::exception& e) {
+    ctx.fail("sensor.model", e.what());
+  }
+  if (const YAML::Node ego = root["ego"]) {
+    s.vehicle_frame = get<std::string>(ego, "frame", s.vehicle_frame, ctx);
+    s.ego_velocity = getVector(ego, "velocity", s.ego_velocity, ctx);
+  }
+  if (const YAML::Node noise = root["noise"]) {
+    s.noise.range_std_m = get<float>(noise, "range_std_m", 0.0f, ctx);
+    s.noise.dropout_prob = get<float>(noise, "dropout_prob", 0.0f, ctx);
+    s.noise.spurious_prob = get<float>(noise, "spurious_prob", 0.0f, ctx);
+    if (s.noise.range_std_m < 0.0f) ctx.fail("noise.range_std_m", "must be >= 0");
+    for (float p : {s.noise.dropout_prob, s.noise.spurious_prob})
+      if (p < 0.0f || p > 1.0f) ctx.fail("noise", "probabilities must be in [0, 1]");
+  }
+  s.scene.has_ground = get<bool>(root, "ground", true, ctx);
+  if (const YAML::Node objects = root["objects"]) {
+    if (!objects.IsSequence()) ctx.fail("objects", "must be a list");
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      s.scene.objects.push_back(readObject(objects[i], static_cast<std::uint32_t>(i + 1), ctx));
+  }
+  return s;
+}
+
+}  // namespace sim
+}  // namespace icanc

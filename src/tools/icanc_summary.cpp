@@ -1,0 +1,112 @@
+// icanc_summary: a readable account of a run. Prints each lamp transition with the obstacle that
+// caused it, then at shutdown: frames, obstacles per frame, lamp on-time and duty cycle (ROS time),
+// processing time and end-to-end latency (cloud received -> light state, wall clock).
+//
+// Subscribes to obstacles_danger (icanc/ObstacleArray) and light_state (icanc/LightState); remap
+// them, e.g. obstacles_danger:=/icanc/obstacles_danger light_state:=/icanc/light_state.
+#include <algorithm>
+#include <cstdio>
+#include <mutex>
+#include <vector>
+
+#include <ros/ros.h>
+
+#include "icanc/LightState.h"
+#include "icanc/ObstacleArray.h"
+
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t i = static_cast<std::size_t>(p * (v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
+}
+
+class Summary {
+ public:
+  explicit Summary(ros::NodeHandle& nh) {
+    obstacles_sub_ = nh.subscribe("obstacles_danger", 20, &Summary::onObstacles, this);
+    light_sub_ = nh.subscribe("light_state", 50, &Summary::onLight, this);
+  }
+
+  void onObstacles(const icanc::ObstacleArray::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (frames_ == 0) first_stamp_ = msg->header.stamp;
+    last_stamp_ = msg->header.stamp;
+    ++frames_;
+    obstacles_ += msg->obstacles.size();
+    dangerous_ += msg->num_dangerous;
+    processing_ms_.push_back(msg->processing_ms);
+    last_array_ = msg;
+  }
+
+  void onLight(const icanc::LightState::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::WallTime wall = ros::WallTime::now();
+    if (msg->cloud_stamp != last_trigger_ && !msg->cloud_receive_time.isZero()) {
+      last_trigger_ = msg->cloud_stamp;
+      latency_ms_.push_back((wall.toSec() - msg->cloud_receive_time.toSec()) * 1e3);
+    }
+    if (have_state_ && on_) on_seconds_ += std::max(0.0, (msg->header.stamp - state_since_).toSec());
+    state_since_ = msg->header.stamp;
+    if (!have_state_ || msg->on != on_ || msg->reason != reason_) describe(*msg);
+    have_state_ = true;
+    on_ = msg->on;
+    reason_ = msg->reason;
+  }
+
+  void describe(const icanc::LightState& s) {
+    const double t = frames_ ? (s.header.stamp - first_stamp_).toSec() : 0.0;
+    std::printf("[%7.2f s] lamp %-3s (%s)", t, s.on ? "ON" : "off", s.reason_text.c_str());
+    if (s.reason == icanc::LightState::REASON_DANGER && last_array_) {
+      for (const auto& o : last_array_->obstacles) {
+        if (!o.dangerous) continue;
+        std::printf("  id %u at %.2f m, %.2f m/s, heading %.0f deg", o.id, o.closest_distance,
+                    o.speed, o.heading);
+      }
+    }
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+
+  void print() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double span = frames_ > 1 ? (last_stamp_ - first_stamp_).toSec() : 0.0;
+    if (have_state_ && on_) on_seconds_ += std::max(0.0, (last_stamp_ - state_since_).toSec());
+    std::printf("\n==== icanc run summary ====\n");
+    std::printf("frames processed         %zu over %.1f s of data\n", frames_, span);
+    std::printf("obstacles per frame      %.2f (dangerous object-frames: %zu)\n",
+                frames_ ? double(obstacles_) / frames_ : 0.0, dangerous_);
+    std::printf("lamp on                  %.1f s of %.1f s (duty cycle %.1f %%)\n", on_seconds_, span,
+                span > 0 ? 100.0 * on_seconds_ / span : 0.0);
+    std::printf("detector processing ms   p50 %.2f  p99 %.2f  max %.2f\n",
+                percentile(processing_ms_, 0.5), percentile(processing_ms_, 0.99),
+                percentile(processing_ms_, 1.0));
+    std::printf("cloud -> lamp latency ms p50 %.2f  p99 %.2f (n = %zu timer starts)\n",
+                percentile(latency_ms_, 0.5), percentile(latency_ms_, 0.99), latency_ms_.size());
+    std::fflush(stdout);
+  }
+
+ private:
+  std::mutex mutex_;
+  ros::Subscriber obstacles_sub_, light_sub_;
+  icanc::ObstacleArray::ConstPtr last_array_;
+  std::size_t frames_ = 0, obstacles_ = 0, dangerous_ = 0;
+  ros::Time first_stamp_, last_stamp_, state_since_, last_trigger_;
+  bool have_state_ = false, on_ = false;
+  std::uint8_t reason_ = 0;
+  double on_seconds_ = 0.0;
+  std::vector<double> processing_ms_, latency_ms_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "icanc_summary");
+  ros::NodeHandle nh;
+  Summary summary(nh);
+  ros::spin();
+  summary.print();
+  return 0;
+}

@@ -1,0 +1,113 @@
+// Pins the light controller to the paper's state diagram and the fail-safe watchdog.
+#include <gtest/gtest.h>
+
+#include "icanc/core/light_controller.hpp"
+
+namespace icanc {
+namespace {
+
+LightControllerParams paperParams() {
+  LightControllerParams p;
+  p.tau_s = 3.0;
+  p.recheck_below_s = 1.0;
+  p.stale_timeout_s = 0.0;  // watchdog off: the paper's machine alone
+  return p;
+}
+
+TEST(LightController, OffUntilDangerThenOnForTau) {
+  LightController lc(paperParams());
+  lc.onInput(10.0, false);
+  EXPECT_FALSE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kOff);
+  EXPECT_TRUE(lc.onInput(10.5, true));
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kDanger);
+  EXPECT_DOUBLE_EQ(lc.timeLeft(10.5), 3.0);
+  EXPECT_DOUBLE_EQ(lc.lastTriggerTime(), 10.5);
+  lc.tick(13.49);
+  EXPECT_TRUE(lc.on());
+  EXPECT_TRUE(lc.tick(13.5));  // timer reaches 0 -> off
+  EXPECT_FALSE(lc.on());
+  EXPECT_DOUBLE_EQ(lc.timeLeft(13.5), 0.0);
+}
+
+TEST(LightController, DangerIgnoredAboveOneSecondLeft) {
+  LightController lc(paperParams());
+  lc.onInput(0.0, true);             // on, ends at 3.0
+  EXPECT_FALSE(lc.onInput(1.99, true));  // 1.01 s left: ignored
+  EXPECT_DOUBLE_EQ(lc.lastTriggerTime(), 0.0);
+  lc.tick(3.0);
+  EXPECT_FALSE(lc.on());  // the ignored danger did not extend the timer
+}
+
+TEST(LightController, DangerResetsTimerAtOrBelowOneSecond) {
+  LightController lc(paperParams());
+  lc.onInput(0.0, true);
+  EXPECT_TRUE(lc.onInput(2.0, true));  // exactly 1 s left: reset
+  EXPECT_DOUBLE_EQ(lc.timeLeft(2.0), 3.0);
+  EXPECT_FALSE(lc.onInput(3.5, true));  // 1.5 s left on the new timer: ignored
+  EXPECT_TRUE(lc.onInput(4.0, true));   // 1.0 s left: reset again
+  lc.tick(6.99);
+  EXPECT_TRUE(lc.on());
+  lc.tick(7.0);
+  EXPECT_FALSE(lc.on());
+}
+
+TEST(LightController, ContinuousDangerKeepsTheLampOnAndEndsTauAfterTheLastReset) {
+  LightController lc(paperParams());
+  double last_reset = -1.0;
+  for (int k = 0; k <= 100; ++k) {  // 10 s of danger at 10 Hz
+    const double t = k * 0.1;
+    if (lc.onInput(t, true)) last_reset = t;
+    ASSERT_TRUE(lc.on()) << t;
+  }
+  // Resets happen each time at most 1 s is left: every ~2 s with tau = 3.
+  EXPECT_NEAR(last_reset, 10.0, 2.0 + 1e-9);
+  for (int k = 101; k <= 160; ++k) {
+    const double t = k * 0.1;
+    lc.onInput(t, false);
+    EXPECT_EQ(lc.on(), t < last_reset + 3.0 - 1e-9) << t;
+  }
+}
+
+TEST(LightController, WatchdogTurnsTheLampOnWhenInputStopsAndReleasesWhenItResumes) {
+  LightControllerParams p = paperParams();
+  p.stale_timeout_s = 0.3;
+  LightController lc(p);
+  EXPECT_TRUE(lc.on());  // no input yet: fail-safe on
+  EXPECT_EQ(lc.reason(), LightReason::kSensorStale);
+  lc.onInput(1.0, false);
+  EXPECT_FALSE(lc.on());
+  EXPECT_FALSE(lc.tick(1.3));  // exactly at the timeout: still fresh
+  EXPECT_TRUE(lc.tick(1.31));
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kSensorStale);
+  lc.onInput(2.0, false);
+  EXPECT_FALSE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kOff);
+}
+
+TEST(LightController, TimeGoingBackwardsResetsToFailSafe) {
+  LightControllerParams p = paperParams();
+  p.stale_timeout_s = 0.3;
+  LightController lc(p);
+  lc.onInput(100.0, true);
+  lc.onInput(100.1, false);
+  EXPECT_TRUE(lc.tick(50.0));  // bag looped: danger -> sensor stale is a change
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kSensorStale);
+  lc.onInput(50.1, false);
+  EXPECT_FALSE(lc.on());  // the old timer (ending at 103) does not survive the loop
+}
+
+TEST(LightController, ValidateNamesTheParameter) {
+  EXPECT_EQ(validate(LightControllerParams{}), "");
+  EXPECT_NE(validate(LightControllerParams{0.0, 1.0, 0.3}).find("tau_s"), std::string::npos);
+  EXPECT_NE(validate(LightControllerParams{3.0, 4.0, 0.3}).find("recheck_below_s"),
+            std::string::npos);
+  EXPECT_NE(validate(LightControllerParams{3.0, 1.0, -1.0}).find("stale_timeout_s"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace icanc

@@ -1,0 +1,107 @@
+// Shared by the rostest gtest nodes: renders a scenario with the simulator and publishes its
+// clouds (stamped with ROS time) and the sensor mount on /tf_static, and records what the icanc
+// graph answers.
+#pragma once
+
+#include <mutex>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <pcl_conversions/pcl_conversions.h>
+#include <ros/package.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+
+#include "icanc/LightState.h"
+#include "icanc/ObstacleArray.h"
+#include "icanc/sim/lidar_sim.hpp"
+#include "icanc/sim/scenario.hpp"
+
+namespace icanc {
+namespace test {
+
+inline std::string scenarioPath(const std::string& file) {
+  return ros::package::getPath("icanc") + "/test/rostest/" + file;
+}
+
+// Waits up to `timeout` seconds of wall time for pred(), spinning callbacks.
+template <class Pred>
+bool waitFor(Pred pred, double timeout) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (pred()) return true;
+    ros::WallDuration(0.01).sleep();
+  }
+  return pred();
+}
+
+struct Recorder {
+  std::mutex mutex;
+  std::vector<LightState::ConstPtr> states;
+  std::vector<ObstacleArray::ConstPtr> arrays;  // obstacles_danger
+  std::vector<ObstacleArray::ConstPtr> detections;  // obstacles
+
+  void onState(const LightState::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); states.push_back(m); }
+  void onArray(const ObstacleArray::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); arrays.push_back(m); }
+  void onDetections(const ObstacleArray::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); detections.push_back(m); }
+  std::size_t count(const std::vector<ObstacleArray::ConstPtr>& v) { std::lock_guard<std::mutex> l(mutex); return v.size(); }
+};
+
+class GraphFixture {
+ public:
+  explicit GraphFixture(const std::string& scenario_file)
+      : scenario_(sim::loadScenario(scenarioPath(scenario_file))),
+        model_(sim::LidarModel::byName(scenario_.lidar)),
+        rng_(scenario_.seed) {
+    cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/test/points", 5);
+    state_sub_ = nh_.subscribe("/icanc/light_state", 100, &Recorder::onState, &rec_);
+    array_sub_ = nh_.subscribe("/icanc/obstacles_danger", 100, &Recorder::onArray, &rec_);
+    detections_sub_ = nh_.subscribe("/icanc/obstacles", 100, &Recorder::onDetections, &rec_);
+    geometry_msgs::TransformStamped mount = tf2::eigenToTransform(scenario_.sensor_mount.cast<double>());
+    mount.header.stamp = ros::Time::now();
+    mount.header.frame_id = scenario_.vehicle_frame;
+    mount.child_frame_id = scenario_.sensor_frame;
+    tf_.sendTransform(mount);
+  }
+
+  // Waits until the ObstacleDetector subscribes and the graph's outputs are connected.
+  bool waitForGraph(double timeout = 30.0) {
+    return waitFor([&] {
+      return cloud_pub_.getNumSubscribers() > 0 && state_sub_.getNumPublishers() > 0 &&
+             array_sub_.getNumPublishers() > 0;
+    }, timeout);
+  }
+
+  // Renders the scene at scenario time t and publishes it stamped `stamp`.
+  void publishFrame(double t, const ros::Time& stamp) {
+    sim::renderScan(scenario_.scene, t, scenario_.sensorPose(t), model_, scenario_.noise, rng_, scan_);
+    auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
+    pcl::toROSMsg(scan_, *msg);
+    msg->header.stamp = stamp;
+    msg->header.frame_id = scenario_.sensor_frame;
+    cloud_pub_.publish(sensor_msgs::PointCloud2::ConstPtr(msg));
+  }
+
+  void publishRaw(const sensor_msgs::PointCloud2::ConstPtr& msg) { cloud_pub_.publish(msg); }
+
+  const sim::Scenario& scenario() const { return scenario_; }
+  Recorder& recorder() { return rec_; }
+  ros::NodeHandle& nh() { return nh_; }
+
+ private:
+  ros::NodeHandle nh_;
+  sim::Scenario scenario_;
+  sim::LidarModel model_;
+  std::mt19937_64 rng_;
+  Cloud scan_;
+  ros::Publisher cloud_pub_;
+  ros::Subscriber state_sub_, array_sub_, detections_sub_;
+  tf2_ros::StaticTransformBroadcaster tf_;
+  Recorder rec_;
+};
+
+}  // namespace test
+}  // namespace icanc

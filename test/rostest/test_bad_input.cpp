@@ -1,0 +1,147 @@
+// rostest: malformed clouds reach the ObstacleDetector. Each gets a throttled error naming the
+// problem (on /rosout) and a counter in /diagnostics; the process keeps running and the next good
+// frame is processed. A stamp going backwards resets the tracker with a warning.
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include "graph_fixture.hpp"
+
+namespace icanc {
+namespace test {
+namespace {
+
+sensor_msgs::PointCloud2::Ptr xyzCloud(std::size_t n, float x0) {
+  auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
+  msg->header.frame_id = "lidar";
+  sensor_msgs::PointCloud2Modifier mod(*msg);
+  mod.setPointCloud2FieldsByString(1, "xyz");
+  mod.resize(n);
+  sensor_msgs::PointCloud2Iterator<float> x(*msg, "x"), y(*msg, "y"), z(*msg, "z");
+  for (std::size_t i = 0; i < n; ++i, ++x, ++y, ++z) {
+    *x = x0 + 0.05f * (i % 10);
+    *y = 0.05f * ((i / 10) % 10);
+    *z = 0.05f * (i / 100);
+  }
+  return msg;
+}
+
+class BadInput : public ::testing::Test {
+ protected:
+  BadInput() : g_("approach_front.yaml") {
+    rosout_ = g_.nh().subscribe<rosgraph_msgs::Log>("/rosout", 100, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      logs_.push_back(*m);
+    });
+    diag_ = g_.nh().subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
+        [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          for (const auto& s : m->status)
+            if (s.name.find("obstacle detector") != std::string::npos)
+              for (const auto& kv : s.values) counters_[kv.key] = kv.value;
+        });
+  }
+
+  // Publishes a good frame stamped `stamp` and waits for its obstacle array.
+  bool goodFrame(const ros::Time& stamp) {
+    const std::size_t before = g_.recorder().count(g_.recorder().detections);
+    g_.publishFrame(1.0, stamp);
+    return waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0);
+  }
+
+  bool logged(std::uint8_t min_level, const std::string& text) {
+    const bool found = waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& l : logs_)
+        if (l.level >= min_level && l.msg.find(text) != std::string::npos) return true;
+      return false;
+    }, 5.0);
+    if (!found) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::printf("no log of level >= %d with '%s' among %zu:\n", min_level, text.c_str(), logs_.size());
+      for (const auto& l : logs_) std::printf("  [%d] %s: %s\n", l.level, l.name.c_str(), l.msg.c_str());
+    }
+    return found;
+  }
+
+  // The counter whose key starts with `key` (-1 when absent).
+  long counter(const std::string& key) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = counters_.lower_bound(key);
+    return it == counters_.end() || it->first.compare(0, key.size(), key) != 0 ? -1 : std::stol(it->second);
+  }
+
+  GraphFixture g_;
+  ros::Subscriber rosout_, diag_;
+  std::mutex mutex_;
+  std::vector<rosgraph_msgs::Log> logs_;
+  std::map<std::string, std::string> counters_;
+};
+
+TEST_F(BadInput, EachMalformedCloudIsReportedCountedAndSurvived) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  const ros::Duration dt(0.1);
+  ASSERT_TRUE(goodFrame(stamp += dt));
+
+  // Empty cloud.
+  auto empty = xyzCloud(0, 5.0f);
+  empty->header.stamp = stamp += dt;
+  g_.publishRaw(empty);
+  ASSERT_TRUE(goodFrame(stamp += dt)) << "no output after an empty cloud";
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::ERROR, "empty"));
+
+  // No x/y/z fields.
+  auto no_xyz = xyzCloud(100, 5.0f);
+  for (auto& f : no_xyz->fields) f.name = "i" + f.name;
+  no_xyz->header.stamp = stamp += dt;
+  ros::WallDuration(1.1).sleep();  // past the 1 s throttle of the previous error
+  g_.publishRaw(no_xyz);
+  ASSERT_TRUE(goodFrame(stamp += dt)) << "no output after a cloud without x/y/z";
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::ERROR, "x, y or z"));
+
+  // Truncated data buffer.
+  auto truncated = xyzCloud(1000, 5.0f);
+  truncated->data.resize(truncated->data.size() / 2);
+  truncated->header.stamp = stamp += dt;
+  ros::WallDuration(1.1).sleep();
+  g_.publishRaw(truncated);
+  ASSERT_TRUE(goodFrame(stamp += dt)) << "no output after a truncated cloud";
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::ERROR, "shorter than row_step"));
+
+  // NaN points: a valid frame, the NaNs are dropped and counted.
+  auto with_nan = xyzCloud(1000, 5.0f);
+  sensor_msgs::PointCloud2Iterator<float> x(*with_nan, "x");
+  for (int i = 0; i < 500; ++i, ++x) *x = std::numeric_limits<float>::quiet_NaN();
+  with_nan->header.stamp = stamp += dt;
+  const std::size_t before = g_.recorder().count(g_.recorder().detections);
+  g_.publishRaw(with_nan);
+  EXPECT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0))
+      << "a cloud with NaN points is still a valid frame";
+
+  // A stamp going backwards (bag loop): tracker reset with a warning, output continues.
+  ASSERT_TRUE(goodFrame(stamp - ros::Duration(5.0)));
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "backwards"));
+
+  // Diagnostics count each case.
+  EXPECT_TRUE(waitFor([&] {
+    return counter("invalid clouds: empty cloud") >= 1 && counter("invalid clouds") >= 3 &&
+           counter("tracker resets: time backwards") >= 1 &&
+           counter("points dropped (NaN/Inf/zero)") >= 500;
+  }, 5.0)) << "empty " << counter("invalid clouds: empty cloud") << ", invalid "
+           << counter("invalid clouds") << ", resets " << counter("tracker resets: time backwards")
+           << ", dropped " << counter("points dropped (NaN/Inf/zero)");
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace icanc
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_bad_input");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
