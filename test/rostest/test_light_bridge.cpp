@@ -1,0 +1,418 @@
+// rostest: icanc/LightBridge in a nodelet manager against an emulated headlight board on a
+// pseudo-terminal (pty_headlight.hpp). Pins: negotiation, commands reaching the board at once and
+// at the heartbeat, the board's lamp state coming back, and each fault survived without a crash
+// or a stuck lamp: garbage, bad checksums, truncated and oversized frames, unplug/replug, reset
+// mid-frame, a board whose command topic has the wrong type. Prints the measured command latency
+// (lamp_cmd published -> frame handled by the board), the time to detect a lost board and the time
+// to resync after garbage.
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <random>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <std_msgs/Bool.h>
+
+#include "pty_headlight.hpp"
+
+namespace icanc {
+namespace test {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+template <class Pred>
+bool waitFor(Pred pred, double timeout) {
+  const double end = steadySeconds() + timeout;
+  while (ros::ok() && steadySeconds() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return pred();
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return -1.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// What the test sees of the ROS side: link_up, lamp_state, /diagnostics, /rosout.
+struct RosSide {
+  RosSide() {
+    ros::NodeHandle nh;
+    cmd_pub = nh.advertise<std_msgs::Bool>("/icanc/lamp_cmd", 10);
+    link_sub = nh.subscribe<std_msgs::Bool>("/icanc/light_bridge/link_up", 10,
+        [this](const std_msgs::Bool::ConstPtr& m) {
+          std::lock_guard<std::mutex> l(mutex);
+          link_up = m->data;
+          link_changes.push_back({m->data, steadySeconds()});
+        });
+    state_sub = nh.subscribe<std_msgs::Bool>("/icanc/lamp_state", 100, [this](const std_msgs::Bool::ConstPtr& m) {
+      std::lock_guard<std::mutex> l(mutex);
+      lamp_states.push_back({m->data, steadySeconds()});
+    });
+    diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
+        [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> l(mutex);
+          for (const auto& s : m->status)
+            if (s.name.find("light bridge") != std::string::npos) {
+              for (const auto& kv : s.values) diag[kv.key] = kv.value;
+              ++diag_count;
+            }
+        });
+    rosout_sub = nh.subscribe<rosgraph_msgs::Log>("/rosout", 200, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+      std::lock_guard<std::mutex> l(mutex);
+      logs.push_back(*m);
+    });
+  }
+
+  void command(bool on) {
+    std_msgs::Bool m;
+    m.data = on;
+    cmd_pub.publish(m);
+  }
+  bool linkUp() {
+    std::lock_guard<std::mutex> l(mutex);
+    return link_up;
+  }
+  // When link_up first went false after t0 (-1: not yet); it may come back up within the same
+  // millisecond, so the history is searched rather than the current value.
+  double linkDownAfter(double t0) {
+    std::lock_guard<std::mutex> l(mutex);
+    for (const auto& c : link_changes)
+      if (!c.first && c.second >= t0) return c.second;
+    return -1.0;
+  }
+  std::size_t stateCount() {
+    std::lock_guard<std::mutex> l(mutex);
+    return lamp_states.size();
+  }
+  std::pair<bool, double> lastState() {
+    std::lock_guard<std::mutex> l(mutex);
+    return lamp_states.empty() ? std::make_pair(true, 0.0) : lamp_states.back();
+  }
+  // A diagnostics value as a number (-1 when absent); waits for a fresh diagnostics message.
+  double diagValue(const std::string& key, bool fresh = true) {
+    if (fresh) {
+      std::size_t n;
+      {
+        std::lock_guard<std::mutex> l(mutex);
+        n = diag_count;
+      }
+      waitFor([&] { std::lock_guard<std::mutex> l(mutex); return diag_count > n; }, 3.0);
+    }
+    std::lock_guard<std::mutex> l(mutex);
+    auto it = diag.find(key);
+    return it == diag.end() ? -1.0 : std::atof(it->second.c_str());
+  }
+  std::string diagText(const std::string& key) {
+    std::lock_guard<std::mutex> l(mutex);
+    auto it = diag.find(key);
+    return it == diag.end() ? "" : it->second;
+  }
+  bool logged(std::uint8_t level, const std::string& text, double timeout = 5.0) {
+    return waitFor([&] {
+      std::lock_guard<std::mutex> l(mutex);
+      for (const auto& m : logs)
+        if (m.level >= level && m.msg.find(text) != std::string::npos) return true;
+      return false;
+    }, timeout);
+  }
+
+  ros::Publisher cmd_pub;
+  ros::Subscriber link_sub, state_sub, diag_sub, rosout_sub;
+  std::mutex mutex;
+  bool link_up = false;
+  std::vector<std::pair<bool, double>> link_changes, lamp_states;
+  std::map<std::string, std::string> diag;
+  std::size_t diag_count = 0;
+  std::vector<rosgraph_msgs::Log> logs;
+};
+
+// The LightController's part: lamp_cmd at 10 Hz with the wanted value, in a thread.
+class Controller {
+ public:
+  explicit Controller(RosSide& ros) : ros_(ros) {
+    thread_ = std::thread([this] {
+      while (running_ && ros::ok()) {
+        if (active_) ros_.command(value_);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    });
+  }
+  ~Controller() {
+    running_ = false;
+    thread_.join();
+  }
+  void set(bool on) {
+    value_ = on;
+    active_ = true;
+    ros_.command(on);
+  }
+  void stop() { active_ = false; }
+
+ private:
+  RosSide& ros_;
+  std::atomic<bool> running_{true}, active_{false}, value_{true};
+  std::thread thread_;
+};
+
+PtyHeadlight* g_board = nullptr;
+RosSide* g_ros = nullptr;
+Controller* g_controller = nullptr;
+int g_baud = 57600;
+
+class LightBridge : public ::testing::Test {
+ protected:
+  PtyHeadlight& board() { return *g_board; }
+  RosSide& ros() { return *g_ros; }
+  Controller& controller() { return *g_controller; }
+
+  // The board follows a command within `timeout`.
+  bool boardFollows(bool on, double timeout = 0.5) {
+    controller().set(on);
+    return waitFor([&] { return board().lampOn() == on; }, timeout);
+  }
+  bool synced(double timeout = 10.0) {
+    return waitFor([&] { return ros().linkUp() && board().connected(); }, timeout);
+  }
+  // The link stays up and the lamp follows commands both ways after a fault.
+  void expectHealthy(const char* after) {
+    EXPECT_TRUE(ros().linkUp()) << "link dropped after " << after;
+    EXPECT_TRUE(boardFollows(true)) << "lamp stuck after " << after;
+    EXPECT_TRUE(boardFollows(false)) << "lamp stuck after " << after;
+  }
+};
+
+TEST_F(LightBridge, NegotiatesAndTheLampFollowsCommands) {
+  ASSERT_TRUE(board().plug());
+  ASSERT_TRUE(synced(15.0)) << "no negotiation with the emulated board";
+  EXPECT_TRUE(board().lampOn()) << "no lamp_cmd yet: the lamp is ON";
+  ASSERT_TRUE(boardFollows(false));
+  // The board's actual state comes back on lamp_state.
+  EXPECT_TRUE(waitFor([&] { auto s = ros().lastState(); return ros().stateCount() > 0 && !s.first; }, 1.0));
+  ASSERT_TRUE(boardFollows(true));
+  EXPECT_TRUE(waitFor([&] { return ros().lastState().first; }, 1.0));
+  EXPECT_TRUE(waitFor([&] { return ros().diagText("link state") == "synced"; }, 3.0))
+      << ros().diagText("link state");
+}
+
+TEST_F(LightBridge, HeartbeatRepeatsAnUnchangedCommandThenFailsSafe) {
+  ASSERT_TRUE(boardFollows(false));
+  controller().stop();
+  ros().command(false);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const std::size_t before = board().commandCount();
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  const auto cmds = board().commands();
+  const std::size_t n = cmds.size() - before;
+  EXPECT_GE(n, 6u) << "heartbeat at 10 Hz expected";
+  EXPECT_LE(n, 10u);
+  for (std::size_t i = before; i < cmds.size(); ++i) EXPECT_FALSE(cmds[i].value);
+  EXPECT_FALSE(board().lampOn());
+  // No lamp_cmd for cmd_stale_timeout_s (1 s): the bridge commands ON.
+  EXPECT_TRUE(waitFor([&] { return board().lampOn(); }, 1.0)) << "stale lamp_cmd must fail safe ON";
+  EXPECT_TRUE(board().commands().back().value);
+  ASSERT_TRUE(boardFollows(false));
+}
+
+TEST_F(LightBridge, CommandLatency) {
+  ASSERT_TRUE(boardFollows(false));
+  controller().stop();
+  std::vector<double> latency_ms;
+  bool value = false;
+  for (int i = 0; i < 200; ++i) {
+    value = !value;
+    const std::size_t before = board().commandCount();
+    const double t0 = steadySeconds();
+    ros().command(value);
+    double t1 = -1.0;
+    waitFor([&] {
+      const auto cmds = board().commands();
+      for (std::size_t k = before; k < cmds.size(); ++k)
+        if (cmds[k].value == value && cmds[k].time_s >= t0) {
+          t1 = cmds[k].time_s;
+          return true;
+        }
+      return false;
+    }, 1.0);
+    if (t1 > 0) latency_ms.push_back((t1 - t0) * 1000.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  ASSERT_GE(latency_ms.size(), 195u);
+  const double p50 = percentile(latency_ms, 0.5), p99 = percentile(latency_ms, 0.99);
+  const double write_p50 = ros().diagValue("command latency p50 [ms]");
+  const double write_p99 = ros().diagValue("command latency p99 [ms]", false);
+  const double wire_ms = 9 * 10 * 1000.0 / g_baud;  // a Bool frame is 9 bytes of 10 bits
+  std::printf("[ MEASURE ] baud %d: lamp_cmd publish -> board handled the frame: p50 %.3f ms, p99 %.3f "
+              "ms (n=%zu); bridge callback -> frame written and drained: p50 %.3f ms, p99 %.3f ms; "
+              "wire time of the 9-byte frame on a real UART %.3f ms (a pty has none)\n",
+              g_baud, p50, p99, latency_ms.size(), write_p50, write_p99, wire_ms);
+  EXPECT_LT(p99, 50.0);
+  ASSERT_TRUE(boardFollows(false));
+}
+
+TEST_F(LightBridge, GarbageIsCountedAndResyncedAtOnce) {
+  ASSERT_TRUE(boardFollows(false));
+  const double garbage_before = ros().diagValue("faults: garbage bytes");
+  const double losses_before = ros().diagValue("link losses", false);
+  std::mt19937 rng(7);
+  Bytes garbage(2000);
+  for (auto& b : garbage) b = static_cast<std::uint8_t>(rng() % 256);
+  // Garbage, then one good lamp_state frame saying ON while the lamp is OFF: the time until it
+  // comes out on /icanc/lamp_state is the time to resync.
+  Bytes s = garbage;
+  const Bytes marker = rosserial::encodeFrame(board().stateId(), {1});
+  s.insert(s.end(), marker.begin(), marker.end());
+  const double t0 = steadySeconds();
+  board().inject(s, 0.05);  // the board holds its own frames back until the marker is through
+  ASSERT_TRUE(waitFor([&] { auto st = ros().lastState(); return st.first && st.second >= t0; }, 2.0));
+  const double resync_ms = (ros().lastState().second - t0) * 1000.0;
+  std::printf("[ MEASURE ] baud %d: 2000 garbage bytes then a good frame: republished %.3f ms after "
+              "the garbage was written\n", g_baud, resync_ms);
+  EXPECT_GE(ros().diagValue("faults: garbage bytes") - garbage_before, 1500.0);
+  EXPECT_EQ(ros().diagValue("link losses", false), losses_before);
+  expectHealthy("garbage");
+  EXPECT_TRUE(ros().logged(rosgraph_msgs::Log::WARN, "garbage bytes"));
+}
+
+TEST_F(LightBridge, BadChecksumsTruncatedAndOversizedFramesAreCountedAndSurvived) {
+  ASSERT_TRUE(boardFollows(false));
+  const std::uint16_t id = board().stateId();
+  Bytes bad_len = rosserial::encodeFrame(id, {1});
+  bad_len[4] ^= 0x20;
+  Bytes bad_msg = rosserial::encodeFrame(id, {1});
+  bad_msg.back() ^= 0x01;
+  const Bytes oversized = {0xFF, 0xFE, 0x00, 0x40, 0xBF, 0x7D, 0x00};  // 16 KiB announced
+  const Bytes full = rosserial::encodeFrame(id, {1});
+  const Bytes truncated(full.begin(), full.begin() + 6);
+
+  struct Case {
+    const char* name;
+    const char* counter;
+    Bytes bytes;
+    double mute_s;
+  };
+  const Case cases[] = {
+      {"bad length checksum", "faults: bad length checksum", bad_len, 0.0},
+      {"bad message checksum", "faults: bad message checksum", bad_msg, 0.0},
+      {"oversized length", "faults: oversized length", oversized, 0.0},
+      {"truncated frame", "faults: truncated frames", truncated, 0.3},  // then silence
+  };
+  for (const Case& c : cases) {
+    const double before = ros().diagValue(c.counter);
+    const double losses = ros().diagValue("link losses", false);
+    board().inject(c.bytes, c.mute_s);
+    EXPECT_TRUE(waitFor([&] { return ros().diagValue(c.counter) >= before + 1; }, 5.0)) << c.name;
+    EXPECT_EQ(ros().diagValue("link losses", false), losses) << c.name;
+    EXPECT_FALSE(ros().lastState().first) << "a corrupted 'ON' report was republished: " << c.name;
+    expectHealthy(c.name);
+  }
+}
+
+TEST_F(LightBridge, UnplugAndReplugAreSurvived) {
+  ASSERT_TRUE(boardFollows(false));
+  const double t0 = steadySeconds();
+  board().unplug();
+  ASSERT_TRUE(waitFor([&] { return ros().linkDownAfter(t0) > 0; }, 5.0));
+  const double detect_ms = (ros().linkDownAfter(t0) - t0) * 1000.0;
+  // Cut off, the board fails safe ON after its command timeout (500 ms).
+  EXPECT_TRUE(waitFor([&] { return board().lampOn(); }, 1.0));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // unplugged for a while
+  const double t1 = steadySeconds();
+  ASSERT_TRUE(board().plug());
+  ASSERT_TRUE(synced(10.0)) << "no renegotiation after replug";
+  const double resync_ms = (steadySeconds() - t1) * 1000.0;
+  std::printf("[ MEASURE ] baud %d: unplug detected (link_up false) after %.1f ms; replug -> synced "
+              "after %.1f ms (reconnect_period_s 0.5)\n", g_baud, detect_ms, resync_ms);
+  EXPECT_LT(detect_ms, 500.0) << "a vanished port is a hang-up, seen at once";
+  EXPECT_GE(ros().diagValue("port losses"), 1.0);
+  EXPECT_TRUE(ros().logged(rosgraph_msgs::Log::ERROR, "lost"));
+  EXPECT_TRUE(boardFollows(false, 1.0));
+  expectHealthy("unplug/replug");
+}
+
+TEST_F(LightBridge, ResetMidFrameIsDetectedAndRenegotiated) {
+  ASSERT_TRUE(boardFollows(false));
+  const double truncated = ros().diagValue("faults: truncated frames");
+  const double t0 = steadySeconds();
+  board().reset(true);  // half a frame, then a silent, unconfigured board
+  EXPECT_TRUE(board().lampOn()) << "power-up: lamp ON";
+  ASSERT_TRUE(waitFor([&] { return ros().linkDownAfter(t0) > 0; }, 5.0));
+  const double detect_ms = (ros().linkDownAfter(t0) - t0) * 1000.0;
+  ASSERT_TRUE(synced(5.0));
+  const double back_ms = (steadySeconds() - t0) * 1000.0;
+  std::printf("[ MEASURE ] baud %d: silent (reset) board detected after %.1f ms (link_timeout_s "
+              "1.0); renegotiated %.1f ms after the reset\n", g_baud, detect_ms, back_ms);
+  EXPECT_GT(detect_ms, 800.0);
+  EXPECT_LT(detect_ms, 1600.0);
+  EXPECT_GE(ros().diagValue("faults: truncated frames"), truncated + 1);
+  expectHealthy("reset mid-frame");
+}
+
+TEST_F(LightBridge, WrongCommandTypeIsRefused) {
+  board().unplug();
+  ASSERT_TRUE(waitFor([&] { return !ros().linkUp(); }, 5.0));
+  PtyHeadlight::Options wrong;
+  wrong.cmd_type = "std_msgs/Int32";
+  wrong.cmd_md5 = "da5909fbe378aeaf85e547e830cc1bb7";
+  ASSERT_TRUE(board().plug(wrong));
+  const std::size_t before = board().commandCount();
+  controller().set(false);
+  EXPECT_TRUE(ros().logged(rosgraph_msgs::Log::ERROR, "refusing to send lamp commands", 10.0));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_EQ(board().commandCount(), before) << "commands sent to a subscriber of another type";
+  EXPECT_TRUE(board().lampOn());
+  EXPECT_FALSE(ros().linkUp());
+  EXPECT_TRUE(waitFor([&] { return ros().diagText("link state") == "type mismatch"; }, 3.0))
+      << ros().diagText("link state");
+  // The right board again.
+  board().unplug();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_TRUE(board().plug());
+  ASSERT_TRUE(synced(10.0));
+  expectHealthy("type mismatch");
+}
+
+// Only in light_bridge_launch.test: launch/icanc.launch with bridge_port set loads the bridge in
+// the graph's manager, and the LightController's lamp_cmd (fail-safe ON: no clouds) reaches the
+// board at the controller's rate.
+TEST_F(LightBridge, LaunchFileServesTheLightController) {
+  ASSERT_TRUE(board().plug());
+  ASSERT_TRUE(synced(15.0)) << "no bridge in the launch file's manager?";
+  const std::size_t before = board().commandCount();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  const auto cmds = board().commands();
+  EXPECT_GE(cmds.size() - before, 8u);
+  for (std::size_t i = before; i < cmds.size(); ++i) EXPECT_TRUE(cmds[i].value);
+  EXPECT_TRUE(board().lampOn());
+  EXPECT_TRUE(waitFor([&] { return ros().stateCount() > 0 && ros().lastState().first; }, 1.0));
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace icanc
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_light_bridge");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ros::NodeHandle pnh("~");
+  std::string port;
+  pnh.param<std::string>("port", port, "/tmp/icanc_headlight_pty");
+  pnh.param("baud", icanc::test::g_baud, 57600);
+  icanc::test::RosSide ros_side;
+  icanc::test::Controller controller(ros_side);
+  icanc::test::PtyHeadlight board(port);
+  icanc::test::g_board = &board;
+  icanc::test::g_ros = &ros_side;
+  icanc::test::g_controller = &controller;
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  return result;
+}
