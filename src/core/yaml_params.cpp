@@ -77,6 +77,9 @@ Profile loadProfile(const std::string& path) {
   readSection(root, path, "obstacle_detector", p.detector);
   readSection(root, path, "danger_detector", p.danger);
   readSection(root, path, "light_controller", p.light);
+  p.corridor.half_width_m = p.danger.half_width_m;
+  p.corridor.horizon_s = p.danger.reaction_time_s;
+  readSection(root, path, "ground_truth", p.corridor);
   return p;
 }
 

@@ -49,18 +49,17 @@ class LightControllerNodelet : public nodelet::Nodelet {
   void onDanger(const ObstacleArray::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = ros::Time::now();
-    const bool was_on = controller_->on();
-    const LightReason was_reason = controller_->reason();
     ++inputs_;
+    input_stamp_ = msg->header.stamp;
+    input_receive_time_ = msg->cloud_receive_time;
     if (controller_->onInput(now.toSec(), msg->num_dangerous > 0)) {
       ++triggers_;
       trigger_cloud_stamp_ = msg->header.stamp;
       trigger_receive_time_ = msg->cloud_receive_time;
       trigger_dangerous_ = msg->num_dangerous;
-      publish(now);  // a (re)started timer is news even when the lamp was already on
-    } else if (was_on != controller_->on() || was_reason != controller_->reason()) {
-      publish(now);
     }
+    // Every input is answered (replay tools wait for it); changes are among them.
+    publish(now, true);
   }
 
   void onTick(const ros::TimerEvent&) {
@@ -73,10 +72,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
                    controller_->params().stale_timeout_s);
     }
     if (changed || (now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_)
-      publish(now);
+      publish(now, false);
   }
 
-  void publish(const ros::Time& now) {
+  void publish(const ros::Time& now, bool answers_input) {
     auto state = boost::make_shared<LightState>();
     state->header.stamp = now;
     state->on = controller_->on();
@@ -86,6 +85,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
     state->dangerous_objects = trigger_dangerous_;
     state->cloud_stamp = trigger_cloud_stamp_;
     state->cloud_receive_time = trigger_receive_time_;
+    state->input_stamp = input_stamp_;
+    if (answers_input && !input_receive_time_.isZero())
+      state->input_latency_ms = static_cast<float>(
+          (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
     auto lamp = boost::make_shared<std_msgs::Bool>();
     lamp->data = state->on;
     if (state->on != last_on_) ++transitions_;
@@ -125,6 +128,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
   bool last_on_ = true;
   ros::Time trigger_cloud_stamp_;
   ros::Time trigger_receive_time_;
+  ros::Time input_stamp_, input_receive_time_;
   std::uint32_t trigger_dangerous_ = 0;
   std::uint64_t inputs_ = 0, triggers_ = 0, transitions_ = 0, stale_events_ = 0;
 };

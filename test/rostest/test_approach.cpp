@@ -94,7 +94,9 @@ TEST(Approach, LampOnAtSpeedTimesReactionTimeAndOffTauAfterDangerEnds) {
   const double t_end = (g.scenario().frames() - 1) / g.scenario().rate_hz;
   for (; i < rec.states.size(); ++i) {
     const double t = (rec.states[i]->header.stamp - t0).toSec();
-    if (t < t_end + 0.25) EXPECT_FALSE(rec.states[i]->on) << t;
+    if (t < t_end + 0.25) {
+      EXPECT_FALSE(rec.states[i]->on) << t;
+    }
   }
 }
 

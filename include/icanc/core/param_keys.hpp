@@ -4,6 +4,7 @@
 #pragma once
 
 #include "icanc/core/danger.hpp"
+#include "icanc/core/ground_truth.hpp"
 #include "icanc/core/light_controller.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 
@@ -45,6 +46,15 @@ void visitParams(Reader& r, LightControllerParams& p) {
   r("tau_s", p.tau_s);
   r("recheck_below_s", p.recheck_below_s);
   r("stale_timeout_s", p.stale_timeout_s);
+}
+
+// Evaluation only: the corridor of the ground truth. half_width_m and horizon_s come from the
+// danger_detector section (half_width_m, reaction_time_s) of the same profile.
+template <class Reader>
+void visitParams(Reader& r, CorridorParams& p) {
+  r("margin_m", p.margin_m);
+  r("vehicle_front_m", p.vehicle_front_m);
+  r("stopping_margin_m", p.stopping_margin_m);
 }
 
 }  // namespace icanc

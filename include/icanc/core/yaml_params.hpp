@@ -4,6 +4,7 @@
 #include <string>
 
 #include "icanc/core/danger.hpp"
+#include "icanc/core/ground_truth.hpp"
 #include "icanc/core/light_controller.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 
@@ -13,9 +14,11 @@ struct Profile {
   ObstacleDetectorParams detector;
   DangerParams danger;
   LightControllerParams light;
+  // The ground_truth section, with half_width_m and horizon_s from the danger section.
+  CorridorParams corridor;
 };
 
-// Loads the obstacle_detector, danger_detector and light_controller sections of a profile and
+// Loads the obstacle_detector, danger_detector, light_controller and ground_truth sections of a profile and
 // validates them; throws std::runtime_error naming the file and the key or problem.
 Profile loadProfile(const std::string& path);
 

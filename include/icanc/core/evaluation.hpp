@@ -1,0 +1,77 @@
+// Scoring a replay against ground truth, as the paper's evaluation (Section V) and more:
+// danger per object-frame (TP/FP/FN/TN, precision, recall, accuracy, F1), danger episodes
+// (caught, missed, warning lead time), detection recall/precision, id switches, velocity RMSE,
+// end-to-end latency percentiles and lamp duty cycle. ROS-free: the evaluator fills the frames.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace icanc {
+
+struct TruthObject {
+  std::uint32_t id = 0;
+  std::string type;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();  // x, y in the vehicle frame [m]
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  bool has_velocity = true;
+  std::uint32_t num_points = 0;   // LiDAR returns inside the true box
+  bool dangerous = false;         // ground truth (enters the corridor within the horizon)
+  double time_to_corridor = -1.0; // [s], -1 when not within the horizon
+};
+
+struct DetectedObject {
+  std::uint32_t id = 0;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  bool dangerous = false;
+};
+
+struct EvalFrame {
+  double t = 0.0;                 // stamp [s]
+  bool processed = false;         // the graph answered this frame
+  bool lamp_on = false;           // lamp state after this frame
+  double latency_ms = 0.0;        // cloud received -> light state published (wall)
+  std::vector<TruthObject> truth;
+  std::vector<DetectedObject> detections;
+};
+
+struct EvalParams {
+  double match_distance_m = 1.5;  // BEV centre distance for a detection to match a true object
+  std::uint32_t min_points = 10;  // true objects with fewer returns are not expected to be seen
+  double max_range_m = 40.0;      // true objects / detections farther away are not scored
+  double fov_half_angle_deg = 180.0;  // scored sector around +x (KITTI labels: 45)
+};
+
+struct Confusion {
+  std::uint64_t tp = 0, fp = 0, fn = 0, tn = 0;
+  double precision() const;
+  double recall() const;
+  double accuracy() const;
+  double f1() const;
+};
+
+struct EvalReport {
+  std::size_t frames = 0, processed = 0;
+  Confusion danger;                 // per object-frame (eligible true objects + false alarms)
+  std::uint64_t false_alarms_unmatched = 0;  // dangerous detections with no true object (in fp)
+  std::size_t episodes = 0, caught = 0;      // danger episodes per true id
+  std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
+  Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
+  std::size_t id_switches = 0;
+  double velocity_rmse = 0.0;       // planar, over matched pairs with known truth velocity
+  std::size_t velocity_samples = 0;
+  double latency_p50_ms = 0, latency_p90_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
+  double duty_cycle = 0.0;          // fraction of processed frames with the lamp on
+};
+
+EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params);
+
+// A fixed-width table like the paper's, and the same figures as JSON.
+std::string toTable(const EvalReport& report, const std::string& title);
+std::string toJson(const EvalReport& report, const std::string& name);
+
+}  // namespace icanc

@@ -1,0 +1,30 @@
+// Replays a bag through the running icanc graph in lockstep on sim time (publishing /clock),
+// one cloud at a time, and collects what the graph answered for each frame together with the
+// bag's ground truth: the input of icanc::evaluate. Used by icanc_eval and the regression
+// rostests, so both score exactly the same way.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <ros/node_handle.h>
+
+#include "icanc/core/evaluation.hpp"
+
+namespace icanc {
+
+struct ReplayOptions {
+  std::string bag;
+  std::string points_topic = "/points";
+  std::string truth_topic = "/ground_truth";
+  std::string ns = "/icanc";      // namespace of the icanc graph
+  double rate = 0.0;              // 0: as fast as possible (lockstep); 1: recorded speed
+  double frame_timeout_s = 5.0;   // wall time to wait for the graph's answer to a frame
+  double graph_timeout_s = 30.0;  // wall time to wait for the graph to come up
+  std::size_t max_frames = 0;     // 0: all
+};
+
+// Throws std::runtime_error when the bag cannot be read or the graph does not come up.
+std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& options);
+
+}  // namespace icanc

@@ -1,0 +1,194 @@
+#include "icanc/core/evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "icanc/core/hungarian.hpp"
+
+namespace icanc {
+namespace {
+
+double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+bool inScope(const Eigen::Vector2d& c, const EvalParams& p) {
+  if (c.norm() > p.max_range_m) return false;
+  const double bearing = std::abs(std::atan2(c.y(), c.x())) * 180.0 / M_PI;
+  return bearing <= p.fov_half_angle_deg;
+}
+
+// Optimal one-to-one matching of true objects to detections by centre distance, gated.
+std::vector<int> match(const std::vector<TruthObject>& truth,
+                       const std::vector<DetectedObject>& dets, double gate) {
+  if (truth.empty() || dets.empty()) return std::vector<int>(truth.size(), -1);
+  Eigen::MatrixXd cost(truth.size(), dets.size());
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      const double d = (truth[i].center - dets[j].center).norm();
+      cost(i, j) = d <= gate ? d : kForbiddenCost;
+    }
+  return solveAssignment(cost);
+}
+
+}  // namespace
+
+double Confusion::precision() const { return ratio(tp, tp + fp); }
+double Confusion::recall() const { return ratio(tp, tp + fn); }
+double Confusion::accuracy() const { return ratio(tp + tn, tp + tn + fp + fn); }
+double Confusion::f1() const { return ratio(2.0 * tp, 2.0 * tp + fp + fn); }
+
+EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params) {
+  EvalReport r;
+  r.frames = frames.size();
+  std::vector<double> latencies;
+  std::size_t on_frames = 0;
+  double velocity_sq = 0.0;
+  std::map<std::uint32_t, std::uint32_t> last_det_of_truth;  // for id switches
+
+  struct Episode {
+    bool open = false;
+    double entry_t = 0.0;  // corridor entry time predicted at the episode's start
+    double first_on = -1.0;
+  };
+  std::map<std::uint32_t, Episode> episodes;
+  const auto close_episode = [&](Episode& e) {
+    if (!e.open) return;
+    ++r.episodes;
+    if (e.first_on >= 0.0) {
+      ++r.caught;
+      r.lead_times_s.push_back(e.entry_t - e.first_on);
+    }
+    e = Episode();
+  };
+
+  for (const EvalFrame& f : frames) {
+    if (!f.processed) continue;
+    ++r.processed;
+    on_frames += f.lamp_on;
+    latencies.push_back(f.latency_ms);
+
+    std::vector<TruthObject> truth;
+    for (const TruthObject& o : f.truth)
+      if (o.num_points >= params.min_points && inScope(o.center, params)) truth.push_back(o);
+    std::vector<DetectedObject> dets;
+    for (const DetectedObject& d : f.detections)
+      if (inScope(d.center, params)) dets.push_back(d);
+    const std::vector<int> m = match(truth, dets, params.match_distance_m);
+
+    std::vector<bool> det_used(dets.size(), false);
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      const TruthObject& o = truth[i];
+      const bool found = m[i] >= 0;
+      if (found) det_used[m[i]] = true;
+      // Detection and tracking.
+      if (found) {
+        ++r.detection.tp;
+        const DetectedObject& d = dets[m[i]];
+        auto it = last_det_of_truth.find(o.id);
+        if (it != last_det_of_truth.end() && it->second != d.id) ++r.id_switches;
+        last_det_of_truth[o.id] = d.id;
+        if (o.has_velocity) {
+          velocity_sq += (d.velocity - o.velocity).squaredNorm();
+          ++r.velocity_samples;
+        }
+      } else {
+        ++r.detection.fn;
+      }
+      // Danger per object-frame.
+      const bool predicted = found && dets[m[i]].dangerous;
+      if (o.dangerous && predicted) ++r.danger.tp;
+      else if (o.dangerous) ++r.danger.fn;
+      else if (predicted) ++r.danger.fp;
+      else ++r.danger.tn;
+    }
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      if (det_used[j]) continue;
+      ++r.detection.fp;
+      if (dets[j].dangerous) {
+        ++r.danger.fp;
+        ++r.false_alarms_unmatched;
+      }
+    }
+
+    // Episodes over all true objects with a label (seen or not: a danger nobody saw is missed).
+    for (const TruthObject& o : f.truth) {
+      Episode& e = episodes[o.id];
+      if (o.dangerous && !e.open) {
+        e.open = true;
+        e.entry_t = f.t + std::max(0.0, o.time_to_corridor);
+      }
+      if (!o.dangerous) close_episode(e);
+      if (e.open && f.lamp_on && e.first_on < 0.0) e.first_on = f.t;
+    }
+    for (auto& kv : episodes) {  // ids absent from this frame end their episode
+      bool present = false;
+      for (const TruthObject& o : f.truth) present |= o.id == kv.first;
+      if (!present) close_episode(kv.second);
+    }
+  }
+  for (auto& kv : episodes) close_episode(kv.second);
+
+  r.velocity_rmse = r.velocity_samples ? std::sqrt(velocity_sq / r.velocity_samples) : 0.0;
+  r.latency_p50_ms = percentile(latencies, 0.50);
+  r.latency_p90_ms = percentile(latencies, 0.90);
+  r.latency_p99_ms = percentile(latencies, 0.99);
+  r.latency_max_ms = percentile(latencies, 1.0);
+  r.duty_cycle = ratio(on_frames, r.processed);
+  return r;
+}
+
+std::string toTable(const EvalReport& r, const std::string& title) {
+  char buf[2048];
+  const double lead_min = r.lead_times_s.empty() ? 0.0 : *std::min_element(r.lead_times_s.begin(), r.lead_times_s.end());
+  const double lead_p50 = percentile(r.lead_times_s, 0.5);
+  std::snprintf(buf, sizeof(buf),
+      "== %s ==\n"
+      "frames %zu (processed %zu)\n"
+      "danger per object-frame: TP %llu FP %llu FN %llu TN %llu (false alarms without a true object: %llu)\n"
+      "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
+      "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
+      "detection: recall %.2f %%  precision %.2f %% (BEV centre distance); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
+      "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
+      "lamp duty cycle %.1f %%\n",
+      title.c_str(), r.frames, r.processed,
+      static_cast<unsigned long long>(r.danger.tp), static_cast<unsigned long long>(r.danger.fp),
+      static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
+      static_cast<unsigned long long>(r.false_alarms_unmatched),
+      100 * r.danger.precision(), 100 * r.danger.recall(), 100 * r.danger.accuracy(), 100 * r.danger.f1(),
+      r.caught, r.episodes, lead_p50, lead_min,
+      100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
+      r.velocity_samples, r.latency_p50_ms, r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
+      100 * r.duty_cycle);
+  return buf;
+}
+
+std::string toJson(const EvalReport& r, const std::string& name) {
+  std::ostringstream j;
+  const auto conf = [&](const char* key, const Confusion& c) {
+    j << "\"" << key << "\": {\"tp\": " << c.tp << ", \"fp\": " << c.fp << ", \"fn\": " << c.fn
+      << ", \"tn\": " << c.tn << ", \"precision\": " << c.precision() << ", \"recall\": "
+      << c.recall() << ", \"accuracy\": " << c.accuracy() << ", \"f1\": " << c.f1() << "}";
+  };
+  j << "{\"name\": \"" << name << "\", \"frames\": " << r.frames << ", \"processed\": " << r.processed << ", ";
+  conf("danger", r.danger);
+  j << ", \"false_alarms_unmatched\": " << r.false_alarms_unmatched;
+  j << ", \"episodes\": " << r.episodes << ", \"caught\": " << r.caught << ", \"lead_times_s\": [";
+  for (std::size_t i = 0; i < r.lead_times_s.size(); ++i) j << (i ? ", " : "") << r.lead_times_s[i];
+  j << "], ";
+  conf("detection", r.detection);
+  j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
+    << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
+    << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
+    << ", \"duty_cycle\": " << r.duty_cycle << "}";
+  return j.str();
+}
+
+}  // namespace icanc

@@ -1,0 +1,143 @@
+#include "icanc/ros/bag_replay.hpp"
+
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+
+#include "icanc/GroundTruthArray.h"
+#include "icanc/LightState.h"
+#include "icanc/ObstacleArray.h"
+
+namespace icanc {
+namespace {
+
+template <class Pred>
+bool waitFor(Pred pred, double timeout) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && !pred()) {
+    if (ros::WallTime::now() > end) return false;
+    ros::WallDuration(0.0005).sleep();
+  }
+  return pred();
+}
+
+std::vector<TruthObject> toTruth(const GroundTruthArray& gt) {
+  std::vector<TruthObject> out;
+  for (const auto& o : gt.objects) {
+    TruthObject t;
+    t.id = o.id;
+    t.type = o.type;
+    t.center = Eigen::Vector2d(o.pose.position.x, o.pose.position.y);
+    t.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
+    t.num_points = o.num_points;
+    t.dangerous = o.dangerous;
+    t.time_to_corridor = o.time_to_corridor;
+    out.push_back(t);
+  }
+  return out;
+}
+
+std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
+  std::vector<DetectedObject> out;
+  for (const auto& o : array.obstacles) {
+    DetectedObject d;
+    d.id = o.id;
+    d.center = Eigen::Vector2d(o.pose.position.x, o.pose.position.y);
+    d.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
+    d.dangerous = o.dangerous;
+    out.push_back(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) {
+  rosbag::Bag bag;
+  try {
+    bag.open(opt.bag, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    throw std::runtime_error(opt.bag + ": " + e.what());
+  }
+
+  // Ground truth by stamp, static transforms.
+  std::map<ros::Time, std::vector<TruthObject>> truth;
+  tf2_ros::StaticTransformBroadcaster static_tf;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({opt.truth_topic, "/tf_static"}))) {
+    if (auto gt = m.instantiate<GroundTruthArray>()) truth[gt->header.stamp] = toTruth(*gt);
+    if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) static_tf.sendTransform(tf->transforms);
+  }
+
+  std::mutex mutex;
+  std::map<ros::Time, ObstacleArray::ConstPtr> arrays;
+  std::map<ros::Time, LightState::ConstPtr> answers;
+  ros::Subscriber array_sub = nh.subscribe<ObstacleArray>(opt.ns + "/obstacles_danger", 50,
+      [&](const ObstacleArray::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); arrays[m->header.stamp] = m; });
+  ros::Subscriber state_sub = nh.subscribe<LightState>(opt.ns + "/light_state", 200,
+      [&](const LightState::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); answers[m->input_stamp] = m; });
+  ros::Publisher clock_pub = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  ros::Publisher cloud_pub = nh.advertise<sensor_msgs::PointCloud2>(opt.points_topic, 2);
+
+  rosbag::View clouds(bag, rosbag::TopicQuery(opt.points_topic));
+  if (clouds.size() == 0) throw std::runtime_error(opt.bag + ": no messages on " + opt.points_topic);
+  rosgraph_msgs::Clock clock;
+  clock.clock = clouds.getBeginTime() - ros::Duration(0.5);
+  const bool up = waitFor([&] {
+    clock_pub.publish(clock);  // the graph's timers need a clock to come up
+    return cloud_pub.getNumSubscribers() > 0 && array_sub.getNumPublishers() > 0 &&
+           state_sub.getNumPublishers() > 0;
+  }, opt.graph_timeout_s);
+  if (!up) throw std::runtime_error("the icanc graph in " + opt.ns + " did not come up");
+  ros::WallDuration(0.3).sleep();  // let the connections settle
+
+  std::vector<EvalFrame> frames;
+  const ros::WallTime wall_start = ros::WallTime::now();
+  const ros::Time bag_start = clouds.getBeginTime();
+  for (const rosbag::MessageInstance& m : clouds) {
+    auto cloud = m.instantiate<sensor_msgs::PointCloud2>();
+    if (!cloud) continue;
+    if (opt.max_frames && frames.size() >= opt.max_frames) break;
+    const ros::Time stamp = cloud->header.stamp;
+    if (opt.rate > 0.0) {
+      const ros::WallTime due = wall_start + ros::WallDuration((stamp - bag_start).toSec() / opt.rate);
+      const ros::WallTime now = ros::WallTime::now();
+      if (due > now) (due - now).sleep();
+    }
+    // Advance the clock in 20 ms steps so the controller's timer runs between frames.
+    while (clock.clock + ros::Duration(0.02) < stamp) {
+      clock.clock += ros::Duration(0.02);
+      clock_pub.publish(clock);
+    }
+    clock.clock = stamp;
+    clock_pub.publish(clock);
+    cloud_pub.publish(cloud);
+
+    EvalFrame f;
+    f.t = stamp.toSec();
+    f.processed = waitFor([&] {
+      std::lock_guard<std::mutex> l(mutex);
+      return arrays.count(stamp) && answers.count(stamp);
+    }, opt.frame_timeout_s);
+    if (f.processed) {
+      std::lock_guard<std::mutex> l(mutex);
+      f.detections = toDetections(*arrays[stamp]);
+      f.lamp_on = answers[stamp]->on;
+      f.latency_ms = answers[stamp]->input_latency_ms;
+      arrays.erase(arrays.begin(), arrays.upper_bound(stamp));
+    }
+    auto it = truth.find(stamp);
+    if (it != truth.end()) f.truth = it->second;
+    frames.push_back(std::move(f));
+    if (!ros::ok()) break;
+  }
+  return frames;
+}
+
+}  // namespace icanc

@@ -1,0 +1,115 @@
+// Pins the evaluation's counting on hand-built frames.
+#include <gtest/gtest.h>
+
+#include "icanc/core/evaluation.hpp"
+
+namespace icanc {
+namespace {
+
+TruthObject truth(std::uint32_t id, double x, double y, bool dangerous, double ttc = -1.0) {
+  TruthObject o;
+  o.id = id;
+  o.center = Eigen::Vector2d(x, y);
+  o.velocity = Eigen::Vector2d(-1.0, 0.0);
+  o.num_points = 50;
+  o.dangerous = dangerous;
+  o.time_to_corridor = ttc;
+  return o;
+}
+
+DetectedObject det(std::uint32_t id, double x, double y, bool dangerous, double vx = -1.0) {
+  DetectedObject d;
+  d.id = id;
+  d.center = Eigen::Vector2d(x, y);
+  d.velocity = Eigen::Vector2d(vx, 0.0);
+  d.dangerous = dangerous;
+  return d;
+}
+
+EvalFrame frame(double t, bool lamp, std::vector<TruthObject> tr, std::vector<DetectedObject> d) {
+  EvalFrame f;
+  f.t = t;
+  f.processed = true;
+  f.lamp_on = lamp;
+  f.latency_ms = 10.0 * t;
+  f.truth = std::move(tr);
+  f.detections = std::move(d);
+  return f;
+}
+
+TEST(Evaluate, ConfusionPerObjectFrame) {
+  std::vector<EvalFrame> frames;
+  // TP (dangerous, flagged), FN (dangerous, not flagged), FP (safe, flagged), TN, FN (unseen).
+  frames.push_back(frame(0.0, true, {truth(1, 5, 0, true, 1.0), truth(2, 10, 5, true, 1.0),
+                                     truth(3, 8, -4, false), truth(4, 20, 0, false),
+                                     truth(5, 30, 0, true, 1.0)},
+                         {det(11, 5.2, 0, true), det(12, 10, 5.3, false), det(13, 8, -4, true),
+                          det(14, 20.5, 0, false)}));
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.danger.tp, 1u);
+  EXPECT_EQ(r.danger.fn, 2u);
+  EXPECT_EQ(r.danger.fp, 1u);
+  EXPECT_EQ(r.danger.tn, 1u);
+  EXPECT_DOUBLE_EQ(r.danger.precision(), 0.5);
+  EXPECT_DOUBLE_EQ(r.danger.recall(), 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(r.danger.accuracy(), 2.0 / 5.0);
+  EXPECT_DOUBLE_EQ(r.danger.f1(), 2.0 / (2.0 + 1.0 + 2.0));
+  EXPECT_EQ(r.detection.tp, 4u);
+  EXPECT_EQ(r.detection.fn, 1u);
+  EXPECT_EQ(r.detection.fp, 0u);
+}
+
+TEST(Evaluate, UnmatchedDangerousDetectionIsAFalseAlarmOnlyInScope) {
+  EvalParams p;
+  p.fov_half_angle_deg = 45.0;
+  std::vector<EvalFrame> frames{frame(0.0, true, {}, {det(1, 5, 0, true), det(2, -5, 0, true),
+                                                       det(3, 50, 0, true), det(4, 6, 1, false)})};
+  const EvalReport r = evaluate(frames, p);
+  EXPECT_EQ(r.danger.fp, 1u);  // behind (outside the 45 deg sector) and beyond 40 m are not scored
+  EXPECT_EQ(r.false_alarms_unmatched, 1u);
+  EXPECT_EQ(r.detection.fp, 2u);
+}
+
+TEST(Evaluate, OptimalMatchingNotGreedy) {
+  // True objects at x = 10.0 and 11.4, detections at 10.7 and 12.8 (gate 1.5). Nearest-first
+  // greedy pairs 11.4 with 10.7 (0.7 m) and then 10.0 has nothing within the gate; the optimal
+  // matching pairs 10.0-10.7 and 11.4-12.8.
+  std::vector<EvalFrame> frames{frame(0.0, false, {truth(1, 10.0, 0, false), truth(2, 11.4, 0, false)},
+                                      {det(7, 10.7, 0, false), det(8, 12.8, 0, false)})};
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.detection.tp, 2u);  // a greedy pass would pair 11.4 with 10.7 and lose 10.0
+  EXPECT_EQ(r.detection.fn, 0u);
+}
+
+TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
+  std::vector<EvalFrame> frames;
+  // Object 1 is truly dangerous from t = 1.0 to 1.2 (enters the corridor 2.0 s after t = 1.0).
+  // The lamp comes on at t = 1.1: lead time = 3.0 - 1.1 = 1.9 s. Object 2's episode (t = 2.0)
+  // never sees the lamp on: missed.
+  frames.push_back(frame(0.9, false, {truth(1, 9, 0, false)}, {det(5, 9, 0, false)}));
+  frames.push_back(frame(1.0, false, {truth(1, 8, 0, true, 2.0)}, {det(5, 8, 0, false)}));
+  frames.push_back(frame(1.1, true, {truth(1, 7, 0, true, 1.9)}, {det(6, 7, 0, true, -2.0)}));
+  frames.push_back(frame(1.2, true, {truth(1, 6, 0, true, 1.8)}, {det(6, 6, 0, true)}));
+  frames.push_back(frame(1.3, false, {truth(1, 6, 0, false)}, {det(6, 6, 0, false)}));
+  frames.push_back(frame(2.0, false, {truth(2, 6, 3, true, 0.5)}, {}));
+  EvalFrame dropped;
+  dropped.t = 2.1;
+  frames.push_back(dropped);  // not processed: not counted
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.frames, 7u);
+  EXPECT_EQ(r.processed, 6u);
+  EXPECT_EQ(r.episodes, 2u);
+  EXPECT_EQ(r.caught, 1u);
+  ASSERT_EQ(r.lead_times_s.size(), 1u);
+  EXPECT_NEAR(r.lead_times_s[0], 1.9, 1e-9);
+  EXPECT_EQ(r.id_switches, 1u);  // detection id 5 -> 6 on the same true object
+  EXPECT_EQ(r.velocity_samples, 5u);
+  EXPECT_NEAR(r.velocity_rmse, std::sqrt(1.0 / 5.0), 1e-9);  // one sample 1 m/s off
+  EXPECT_DOUBLE_EQ(r.duty_cycle, 2.0 / 6.0);
+  EXPECT_NEAR(r.latency_max_ms, 20.0, 1e-9);
+  EXPECT_NE(toTable(r, "t").find("1 caught of 2"), std::string::npos);
+  EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace icanc
