@@ -90,6 +90,8 @@ Scenario loadScenario(const std::string& path) {
   s.duration_s = get<double>(root, "duration_s", s.duration_s, ctx);
   s.rate_hz = get<double>(root, "rate_hz", s.rate_hz, ctx);
   s.seed = get<std::uint64_t>(root, "seed", s.seed, ctx);
+  s.profile = get<std::string>(root, "profile", s.profile, ctx);
+  if (s.profile.empty()) ctx.fail("profile", "must name a vehicle profile (e.g. zebra)");
   if (!(s.duration_s > 0.0)) ctx.fail("duration_s", "must be > 0");
   if (!(s.rate_hz > 0.0 && s.rate_hz <= 100.0)) ctx.fail("rate_hz", "must be in (0, 100]");
 
@@ -128,6 +130,17 @@ Scenario loadScenario(const std::string& path) {
       s.scene.objects.push_back(readObject(objects[i], static_cast<std::uint32_t>(i + 1), ctx));
   }
   return s;
+}
+
+std::string profilePath(const std::string& scenario_path, const std::string& profile) {
+  const std::size_t slash = scenario_path.rfind('/');
+  const std::string dir = slash == std::string::npos ? "." : scenario_path.substr(0, slash);
+  const std::string suffix = ".yaml";
+  const bool is_file = profile.size() > suffix.size() &&
+                       profile.compare(profile.size() - suffix.size(), suffix.size(), suffix) == 0;
+  if (!is_file) return dir + "/../" + profile + suffix;
+  if (!profile.empty() && profile[0] == '/') return profile;
+  return dir + "/" + profile;
 }
 
 }  // namespace sim

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   icanc::EvalParams params;
   replay.bag = args[1];
   std::string json, name = replay.bag.substr(replay.bag.rfind('/') + 1);
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".bag") == 0) name.resize(name.size() - 4);
   for (std::size_t i = 2; i + 1 < args.size(); i += 2) {
     const std::string& k = args[i];
     const std::string& v = args[i + 1];

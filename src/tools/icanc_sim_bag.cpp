@@ -1,11 +1,21 @@
 // icanc_sim_bag: renders a scenario file (config/scenarios/*.yaml) into a rosbag with the LiDAR
-// clouds (sensor frame), /tf_static (vehicle -> sensor mount) and /tf (odom -> vehicle).
+// clouds (sensor frame), /tf_static (vehicle -> sensor mount), /tf (odom -> vehicle) and
+// /ground_truth (icanc/GroundTruthArray, same stamp as each cloud, vehicle frame): every scene
+// object's true box, velocity relative to the vehicle, returns inside the box and its danger
+// label from the scripted motion (docs/design.md, "Ground truth for dangerous"). The corridor
+// comes from the vehicle profile named by the scenario's `profile` key (config/<name>.yaml) or
+// --profile. Prints, per object, when it is truly dangerous.
 //
 //   icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time 1000]
+//                 [--profile PROFILE.yaml] [--truth-topic /ground_truth]
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
@@ -13,8 +23,11 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "icanc/core/yaml_params.hpp"
+#include "icanc/ros/truth_msgs.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
+#include "icanc/sim/scenario_truth.hpp"
 
 namespace {
 
@@ -28,27 +41,58 @@ geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3f& pose, const
 }
 
 int usage() {
-  std::cerr << "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n";
+  std::cerr << "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
+               "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n";
   return 2;
 }
+
+// Dangerous stretches of one object, for the printout: "7.0-9.0 s (21 frames)".
+struct Episodes {
+  std::string type;
+  std::vector<std::pair<double, double>> spans;
+  std::size_t frames = 0, in_corridor = 0;
+  double last_t = -1.0;
+  void add(double t, bool dangerous, bool in_corridor_now, double frame_dt) {
+    in_corridor += in_corridor_now;
+    if (!dangerous) return;
+    ++frames;
+    if (!spans.empty() && t - last_t < 1.5 * frame_dt) spans.back().second = t;
+    else spans.emplace_back(t, t);
+    last_t = t;
+  }
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string scenario_path = argv[1], bag_path = argv[2];
-  std::string topic = "/points";
+  std::string topic = "/points", truth_topic = "/ground_truth", profile_override;
   double start_time = 1000.0;
-  for (int i = 3; i + 1 < argc; i += 2) {
+  for (int i = 3; i < argc; i += 2) {
+    if (i + 1 >= argc) return usage();
     const std::string flag = argv[i];
     if (flag == "--topic") topic = argv[i + 1];
     else if (flag == "--start-time") start_time = std::atof(argv[i + 1]);
+    else if (flag == "--profile") profile_override = argv[i + 1];
+    else if (flag == "--truth-topic") truth_topic = argv[i + 1];
     else return usage();
   }
   ros::Time::init();
   try {
     const icanc::sim::Scenario s = icanc::sim::loadScenario(scenario_path);
     const icanc::sim::LidarModel model = icanc::sim::LidarModel::byName(s.lidar);
+    const std::string profile_path = profile_override.empty()
+                                         ? icanc::sim::profilePath(scenario_path, s.profile)
+                                         : profile_override;
+    icanc::CorridorParams corridor;
+    try {
+      corridor = icanc::loadProfile(profile_path).corridor;
+    } catch (const std::exception& e) {
+      throw std::runtime_error("vehicle profile '" + s.profile + "' for the ground truth: " +
+                               e.what() + " (give --profile PATH)");
+    }
+    const icanc::sim::ScenarioTruth truth(s, corridor);
     std::mt19937_64 rng(s.seed);
     const ros::Time t0(start_time);
 
@@ -67,7 +111,9 @@ int main(int argc, char** argv) {
     bag.write("/tf_static", t0, mount, latched);
 
     icanc::Cloud scan;
-    std::size_t points = 0;
+    std::size_t points = 0, dangerous = 0, dangerous_frames = 0;
+    std::map<std::uint32_t, Episodes> episodes;
+    const double frame_dt = 1.0 / s.rate_hz;
     for (std::size_t k = 0; k < s.frames(); ++k) {
       const double t = static_cast<double>(k) / s.rate_hz;
       const ros::Time stamp = t0 + ros::Duration(t);
@@ -78,15 +124,41 @@ int main(int argc, char** argv) {
       cloud.header.frame_id = s.sensor_frame;
       points += scan.size();
 
+      const icanc::sim::FrameTruth f = truth.frame(t, &scan);
+      bool any = false;
+      for (std::size_t i = 0; i < f.boxes.size(); ++i) {
+        Episodes& e = episodes[f.boxes[i].id];
+        e.type = f.boxes[i].type;
+        e.add(t, f.labels[i].dangerous, f.labels[i].in_corridor, frame_dt);
+        dangerous += f.labels[i].dangerous;
+        any = any || f.labels[i].dangerous;
+      }
+      dangerous_frames += any;
+
       tf2_msgs::TFMessage odom;
       odom.transforms.push_back(toTransform(s.vehiclePose(t), "odom", s.vehicle_frame, stamp));
       bag.write("/tf", stamp, odom);
       bag.write(topic, stamp, cloud);
+      bag.write(truth_topic, stamp,
+                icanc::toGroundTruthArray(f.boxes, f.labels, f.num_points, corridor, stamp,
+                                          s.vehicle_frame));
     }
     bag.close();
     std::cout << "wrote " << bag_path << ": scenario '" << s.name << "', " << s.frames()
               << " frames of " << model.name << " (" << points / s.frames() << " rays per frame) on "
               << topic << ", " << s.duration_s << " s\n";
+    std::printf("ground truth on %s (profile %s): corridor |y| <= %.2f m, 0 <= x <= %.2f m, horizon "
+                "%.1f s; %zu dangerous object-frames in %zu of %zu frames\n",
+                truth_topic.c_str(), profile_path.c_str(), corridor.halfWidth(), corridor.length(),
+                corridor.horizon_s, dangerous, dangerous_frames, s.frames());
+    for (const auto& entry : episodes) {
+      const Episodes& e = entry.second;
+      if (e.frames == 0) continue;
+      std::printf("  id %u %s: dangerous %zu frames (in corridor %zu):", entry.first,
+                  e.type.c_str(), e.frames, e.in_corridor);
+      for (const auto& span : e.spans) std::printf(" %.1f-%.1f s", span.first, span.second);
+      std::printf("\n");
+    }
   } catch (const std::exception& e) {
     std::cerr << "icanc_sim_bag: " << e.what() << "\n";
     return 1;

@@ -23,6 +23,9 @@ struct Scenario {
   double duration_s = 10.0;
   double rate_hz = 10.0;
   std::uint64_t seed = 1;
+  // Vehicle profile whose corridor defines the ground truth: config/<profile>.yaml (see
+  // profilePath), or a path ending in .yaml relative to the scenario file's directory.
+  std::string profile = "zebra";
   NoiseParams noise;
   Scene scene;
 
@@ -34,6 +37,11 @@ struct Scenario {
 
 // Loads a scenario; throws std::runtime_error naming the file and the offending key.
 Scenario loadScenario(const std::string& path);
+
+// The profile file of a scenario loaded from scenario_path: a bare name resolves to
+// <scenario dir>/../<name>.yaml (config/scenarios/x.yaml -> config/<name>.yaml); a name ending in
+// .yaml is a path, relative to the scenario file's directory unless absolute.
+std::string profilePath(const std::string& scenario_path, const std::string& profile);
 
 }  // namespace sim
 }  // namespace icanc

@@ -1,0 +1,93 @@
+// Regression rostest: renders a scenario (or imports KITTI frames) into a bag with ground truth,
+// replays it through the graph of launch/icanc.launch in lockstep (icanc::replayBag, the
+// evaluator's own code) and asserts the metrics against thresholds given as private parameters
+// in the .test file (measured values with a margin; the command that measured them is there).
+//   ~scenario     scenario file under config/scenarios (or ~kitti_frames > 0 for KITTI 0000)
+//   ~min_*/~max_* thresholds; a missing one is not checked
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <ros/package.h>
+#include <ros/ros.h>
+
+#include "icanc/core/evaluation.hpp"
+#include "icanc/ros/bag_replay.hpp"
+
+namespace icanc {
+namespace test {
+namespace {
+
+struct Check {
+  const char* name;
+  double value;
+};
+
+TEST(EvalScenario, MetricsWithinThresholds) {
+  ros::NodeHandle pnh("~");
+  const std::string pkg = ros::package::getPath("icanc");
+  const std::string bag = std::string(::testing::TempDir()) + "icanc_eval_" + ros::this_node::getName().substr(1) + ".bag";
+  std::string scenario;
+  int kitti_frames = 0;
+  pnh.getParam("scenario", scenario);
+  pnh.getParam("kitti_frames", kitti_frames);
+  EvalParams params;
+  pnh.param("fov_deg", params.fov_half_angle_deg, params.fov_half_angle_deg);
+
+  std::string command;
+  if (kitti_frames > 0) {
+    const std::string kitti = pkg + "/../shared/data/kitti_tracking_0000";
+    if (std::system(("test -d " + kitti).c_str()) != 0)
+      GTEST_SKIP() << "KITTI data not found at " << kitti;
+    command = std::string(ICANC_KITTI2BAG) + " " + kitti + " " + bag + " --frames " +
+              std::to_string(kitti_frames) + " --profile " + pkg + "/config/kitti_hdl64e.yaml";
+  } else {
+    command = std::string(ICANC_SIM_BAG) + " " + pkg + "/config/scenarios/" + scenario + " " + bag;
+  }
+  ASSERT_EQ(std::system((command + " > /dev/null").c_str()), 0) << command;
+
+  ros::NodeHandle nh;
+  ReplayOptions options;
+  options.bag = bag;
+  const std::vector<EvalFrame> frames = replayBag(nh, options);
+  const EvalReport r = evaluate(frames, params);
+  std::printf("%s", toTable(r, kitti_frames ? "kitti_0000" : scenario).c_str());
+  std::remove(bag.c_str());
+
+  EXPECT_EQ(r.processed, r.frames) << "frames without an answer from the graph";
+  const double lead_min = r.lead_times_s.empty() ? 0.0 : *std::min_element(r.lead_times_s.begin(), r.lead_times_s.end());
+  const Check mins[] = {
+      {"min_danger_recall", r.danger.recall()},       {"min_danger_precision", r.danger.precision()},
+      {"min_danger_accuracy", r.danger.accuracy()},   {"min_detection_recall", r.detection.recall()},
+      {"min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
+      {"min_lead_time_s", lead_min},
+  };
+  const Check maxes[] = {
+      {"max_duty_cycle", r.duty_cycle},
+      {"max_velocity_rmse", r.velocity_rmse},
+      {"max_id_switches", double(r.id_switches)},
+      {"max_false_alarms", double(r.false_alarms_unmatched)},
+  };
+  for (const Check& c : mins) {
+    double bound;
+    if (pnh.getParam(c.name, bound)) EXPECT_GE(c.value, bound) << c.name;
+  }
+  for (const Check& c : maxes) {
+    double bound;
+    if (pnh.getParam(c.name, bound)) EXPECT_LE(c.value, bound) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace icanc
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_eval_scenario");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
