@@ -57,4 +57,15 @@ float bevIoU(const Box3D& a, const Box3D& b) {
   return uni > 0.0f ? inter / uni : 0.0f;
 }
 
+bool orientedBoxContains(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw,
+                         const Eigen::Vector3d& p, double margin_m) {
+  const Eigen::Vector3d d = p - center;
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double along = c * d.x() + s * d.y();
+  const double across = -s * d.x() + c * d.y();
+  return std::abs(along) <= 0.5 * size.x() + margin_m &&
+         std::abs(across) <= 0.5 * size.y() + margin_m &&
+         std::abs(d.z()) <= 0.5 * size.z() + margin_m;
+}
+
 }  // namespace icanc

@@ -1,5 +1,7 @@
 #include "icanc/core/kitti.hpp"
 
+#include "icanc/core/box.hpp"
+
 #include <lzma.h>
 
 #include <algorithm>
@@ -268,13 +270,7 @@ std::vector<VeloBox> toVelodyne(const std::vector<Label>& labels, const Calib& c
 }
 
 bool contains(const VeloBox& box, const Eigen::Vector3d& p, double margin_m) {
-  const Eigen::Vector3d d = p - box.center;
-  const double c = std::cos(box.yaw), s = std::sin(box.yaw);
-  const double along = c * d.x() + s * d.y();
-  const double across = -s * d.x() + c * d.y();
-  return std::abs(along) <= 0.5 * box.size.x() + margin_m &&
-         std::abs(across) <= 0.5 * box.size.y() + margin_m &&
-         std::abs(d.z()) <= 0.5 * box.size.z() + margin_m;
+  return orientedBoxContains(box.center, box.size, box.yaw, p, margin_m);
 }
 
 }  // namespace kitti

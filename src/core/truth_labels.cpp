@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "icanc/core/box.hpp"
+
 namespace icanc {
 
 TruthPose toTruthPose(const TruthBox& box) {
@@ -97,13 +99,7 @@ std::vector<TruthBox> truthBoxesFromKitti(const std::vector<kitti::VeloBox>& lab
 }
 
 bool boxContains(const TruthBox& box, const Eigen::Vector3d& p, double margin_m) {
-  const Eigen::Vector3d d = p - box.center;
-  const double c = std::cos(box.yaw), s = std::sin(box.yaw);
-  const double along = c * d.x() + s * d.y();
-  const double across = -s * d.x() + c * d.y();
-  return std::abs(along) <= 0.5 * box.size.x() + margin_m &&
-         std::abs(across) <= 0.5 * box.size.y() + margin_m &&
-         std::abs(d.z()) <= 0.5 * box.size.z() + margin_m;
+  return orientedBoxContains(box.center, box.size, box.yaw, p, margin_m);
 }
 
 std::uint32_t countPointsInside(const TruthBox& box, const Cloud& cloud) {

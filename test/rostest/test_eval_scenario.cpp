@@ -72,11 +72,15 @@ TEST(EvalScenario, MetricsWithinThresholds) {
   };
   for (const Check& c : mins) {
     double bound;
-    if (pnh.getParam(c.name, bound)) EXPECT_GE(c.value, bound) << c.name;
+    if (pnh.getParam(c.name, bound)) {
+      EXPECT_GE(c.value, bound) << c.name;
+    }
   }
   for (const Check& c : maxes) {
     double bound;
-    if (pnh.getParam(c.name, bound)) EXPECT_LE(c.value, bound) << c.name;
+    if (pnh.getParam(c.name, bound)) {
+      EXPECT_LE(c.value, bound) << c.name;
+    }
   }
 }
 

@@ -24,4 +24,9 @@ Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices = nullptr);
 // Intersection over union of the axis-aligned boxes seen from above (x/y only), in [0, 1].
 float bevIoU(const Box3D& a, const Box3D& b);
 
+// True when p lies inside the box with this centre, size (length along yaw, width, height) and
+// yaw about +z, grown by margin_m on every side.
+bool orientedBoxContains(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw,
+                         const Eigen::Vector3d& p, double margin_m = 0.0);
+
 }  // namespace icanc
