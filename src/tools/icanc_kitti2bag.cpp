@@ -35,6 +35,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "icanc/ros/bag_static_tf.hpp"
 #include "icanc/core/kitti.hpp"
 #include "icanc/core/truth_labels.hpp"
 #include "icanc/core/yaml_params.hpp"
@@ -99,14 +100,7 @@ int main(int argc, char** argv) {
     identity.child_frame_id = kFrame;
     identity.transform.rotation.w = 1.0;
     mount.transforms.push_back(identity);
-    auto latched = boost::make_shared<ros::M_string>();
-    // A connection header given to rosbag must be complete, as a recorded one is.
-    (*latched)["type"] = ros::message_traits::datatype<tf2_msgs::TFMessage>();
-    (*latched)["md5sum"] = ros::message_traits::md5sum<tf2_msgs::TFMessage>();
-    (*latched)["message_definition"] = ros::message_traits::definition<tf2_msgs::TFMessage>();
-    (*latched)["latching"] = "1";
-    (*latched)["callerid"] = "/icanc_kitti2bag";
-    bag.write("/tf_static", t0, mount, latched);
+    icanc::writeStaticTransforms(bag, t0, mount, "/icanc_kitti2bag");
 
     icanc::Cloud scan;
     int frames = 0;

@@ -23,6 +23,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "icanc/ros/bag_static_tf.hpp"
 #include "icanc/core/yaml_params.hpp"
 #include "icanc/ros/truth_msgs.hpp"
 #include "icanc/sim/lidar_sim.hpp"
@@ -101,14 +102,7 @@ int main(int argc, char** argv) {
 
     tf2_msgs::TFMessage mount;
     mount.transforms.push_back(toTransform(s.sensor_mount, s.vehicle_frame, s.sensor_frame, t0));
-    auto latched = boost::make_shared<ros::M_string>();
-    // A connection header given to rosbag must be complete, as a recorded one is.
-    (*latched)["type"] = ros::message_traits::datatype<tf2_msgs::TFMessage>();
-    (*latched)["md5sum"] = ros::message_traits::md5sum<tf2_msgs::TFMessage>();
-    (*latched)["message_definition"] = ros::message_traits::definition<tf2_msgs::TFMessage>();
-    (*latched)["latching"] = "1";
-    (*latched)["callerid"] = "/icanc_sim_bag";
-    bag.write("/tf_static", t0, mount, latched);
+    icanc::writeStaticTransforms(bag, t0, mount, "/icanc_sim_bag");
 
     icanc::Cloud scan;
     std::size_t points = 0, dangerous = 0, dangerous_frames = 0;
