@@ -83,6 +83,12 @@ struct PointSink {
       return;
     }
     const Eigen::Vector3f v = rotation * Eigen::Vector3f(x, y, z) + translation;
+    // A finite coordinate near float's maximum can overflow to inf in the transform (found by
+    // test/fuzz/cloud_decode_fuzzer.cpp): such a point is as unusable as a non-finite one.
+    if (!v.allFinite()) {
+      ++nonfinite;
+      return;
+    }
     Point& out = dst[kept++];
     out.x = v.x();
     out.y = v.y();

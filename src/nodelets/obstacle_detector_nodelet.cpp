@@ -102,6 +102,16 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     }
     dropped_points_ += stats.dropped_nonfinite + stats.dropped_zero;
 
+    // A stamp equal to the previous frame's (duplicate message, stuck driver clock): processed
+    // with dt = 0 (the Kalman prediction is the identity), warned about and counted.
+    if (has_last_stamp_ && msg->header.stamp == last_stamp_) {
+      ++repeated_stamps_;
+      NODELET_WARN_THROTTLE(1.0, "cloud stamp %.6f repeats the previous frame's (duplicate or stuck "
+                            "clock?): processed with dt = 0", msg->header.stamp.toSec());
+    }
+    has_last_stamp_ = true;
+    last_stamp_ = msg->header.stamp;
+
     if (!last_frame_.empty() && frame != last_frame_) {
       ++frame_changes_;
       NODELET_WARN("output frame changed from '%s' to '%s': tracker reset", last_frame_.c_str(),
@@ -160,6 +170,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("tracker resets: time backwards", time_resets_);
     stat.add("tracker resets: gap", gap_resets_);
     stat.add("output frame changes", frame_changes_);
+    stat.add("repeated stamps", repeated_stamps_);
     stat.add("obstacles (last frame)", last_obstacles_);
     stat.add("processing ms (last frame)", last_processing_ms_);
     stat.add("prep ms", last_times_.prep_ms);
@@ -187,7 +198,9 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::string last_frame_;
   std::map<DecodeError, std::uint64_t> invalid_;
   std::uint64_t received_ = 0, published_ = 0, dropped_points_ = 0, tf_failures_ = 0;
-  std::uint64_t time_resets_ = 0, gap_resets_ = 0, frame_changes_ = 0;
+  std::uint64_t time_resets_ = 0, gap_resets_ = 0, frame_changes_ = 0, repeated_stamps_ = 0;
+  bool has_last_stamp_ = false;
+  ros::Time last_stamp_;
   std::uint64_t reported_invalid_ = 0, reported_tf_failures_ = 0;
   std::size_t last_obstacles_ = 0;
   double last_processing_ms_ = 0.0;

@@ -92,7 +92,9 @@ Scenario loadScenario(const std::string& path) {
   s.seed = get<std::uint64_t>(root, "seed", s.seed, ctx);
   s.profile = get<std::string>(root, "profile", s.profile, ctx);
   if (s.profile.empty()) ctx.fail("profile", "must name a vehicle profile (e.g. zebra)");
-  if (!(s.duration_s > 0.0)) ctx.fail("duration_s", "must be > 0");
+  // Bounded (found by test/fuzz/scenario_fuzzer.cpp): an infinite or huge duration made frames()
+  // convert an out-of-range double to size_t (undefined behaviour) and the renderers loop forever.
+  if (!(s.duration_s > 0.0 && s.duration_s <= 86400.0)) ctx.fail("duration_s", "must be in (0, 86400] s");
   if (!(s.rate_hz > 0.0 && s.rate_hz <= 100.0)) ctx.fail("rate_hz", "must be in (0, 100]");
 
   if (const YAML::Node sensor = root["sensor"]) {

@@ -380,6 +380,20 @@ TEST(CloudDecode, TransformApplied) {
   EXPECT_NEAR(out[2].y, 7.0f, 1e-5f);
 }
 
+// Found by test/fuzz/cloud_decode_fuzzer.cpp: finite coordinates near FLT_MAX overflowed to inf
+// in the transform and reached the pipeline. They are dropped and counted as non-finite.
+TEST(CloudDecode, TransformOverflowDroppedAsNonFinite) {
+  const float big = std::numeric_limits<float>::max();
+  const Eigen::Affine3f t(Eigen::AngleAxisf(0.3f, Eigen::Vector3f::UnitZ()) * Eigen::Translation3f(0.3f, 0, 0.6f));
+  Message m = makeXYZI({{big, big, 0}, {1, 2, 3}, {-big, big, 0}});
+  Cloud out;
+  DecodeStats stats;
+  ASSERT_EQ(decodeXYZ(m.view(), t, kMax, out, &stats), DecodeError::kNone);
+  EXPECT_EQ(stats.dropped_nonfinite, 2u);
+  ASSERT_EQ(out.size(), 1u);
+  for (const Point& p : out.points) EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+}
+
 TEST(CloudDecode, CapacityReused) {
   Message big = makeXYZI(somePoints(100));
   Message small = makeXYZI(somePoints(50));

@@ -2,6 +2,8 @@
 // problem (on /rosout) and a counter in /diagnostics; the process keeps running and the next good
 // frame is processed. A stamp going backwards resets the tracker with a warning.
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <functional>
+
 #include <gtest/gtest.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
@@ -47,7 +49,8 @@ class BadInput : public ::testing::Test {
   bool goodFrame(const ros::Time& stamp) {
     const std::size_t before = g_.recorder().count(g_.recorder().detections);
     g_.publishFrame(1.0, stamp);
-    return waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0);
+    // Generous: the first frame can take seconds on a loaded 2-core machine (or under ASan).
+    return waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 15.0);
   }
 
   bool logged(std::uint8_t min_level, const std::string& text) {
@@ -132,6 +135,134 @@ TEST_F(BadInput, EachMalformedCloudIsReportedCountedAndSurvived) {
   }, 5.0)) << "empty " << counter("invalid clouds: empty cloud") << ", invalid "
            << counter("invalid clouds") << ", resets " << counter("tracker resets: time backwards")
            << ", dropped " << counter("points dropped (NaN/Inf/zero)");
+}
+
+// The rest of issue #8's matrix. Each malformed cloud: an error on /rosout naming the problem, its
+// own counter in /diagnostics, and the next good frame processed. 2,000,000 points (max_points)
+// are processed; one more is rejected before any point is read (memory bounded by max_points).
+// A repeated stamp is processed with a warning and counted; a cloud in a frame without a
+// transform to base_link gets boxes in its own frame, a tf warning and counter, and a tracker
+// reset (output frame changed) on the way there and back.
+TEST_F(BadInput, MalformedMatrix) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  const ros::Duration dt(0.1);
+  ASSERT_TRUE(goodFrame(stamp += dt));
+
+  struct Case {
+    const char* what;
+    const char* log;      // text of the error on /rosout
+    const char* counter;  // diagnostics key prefix
+    std::function<void(sensor_msgs::PointCloud2&)> spoil;
+  };
+  const std::vector<Case> cases = {
+      {"x as UINT16", "not a single FLOAT32 or FLOAT64", "invalid clouds: x/y/z field is not",
+       [](sensor_msgs::PointCloud2& m) { m.fields[0].datatype = sensor_msgs::PointField::UINT16; }},
+      {"x with count 3", "not a single FLOAT32 or FLOAT64", "invalid clouds: x/y/z field is not",
+       [](sensor_msgs::PointCloud2& m) { m.fields[0].count = 3; }},
+      {"big-endian flag", "byte order", "invalid clouds: byte order",
+       [](sensor_msgs::PointCloud2& m) { m.is_bigendian = true; }},
+      {"point_step smaller than the fields", "inconsistent layout", "invalid clouds: inconsistent",
+       [](sensor_msgs::PointCloud2& m) { m.point_step = 8; }},
+      {"point_step 0", "inconsistent layout", "invalid clouds: inconsistent",
+       [](sensor_msgs::PointCloud2& m) { m.point_step = 0; }},
+      {"row_step below width * point_step", "inconsistent layout", "invalid clouds: inconsistent",
+       [](sensor_msgs::PointCloud2& m) { m.row_step = m.width * m.point_step - 1; }},
+      {"row_step * height past the data", "shorter than row_step", "invalid clouds: data shorter",
+       [](sensor_msgs::PointCloud2& m) { m.row_step *= 2; }},
+      {"zero width with data", "empty cloud", "invalid clouds: empty cloud",
+       [](sensor_msgs::PointCloud2& m) { m.width = 0; }},
+      {"zero height", "empty cloud", "invalid clouds: empty cloud",
+       [](sensor_msgs::PointCloud2& m) { m.height = 0; }},
+      {"2,000,001 points", "more points than the configured maximum", "invalid clouds: more points",
+       [](sensor_msgs::PointCloud2& m) {
+         sensor_msgs::PointCloud2Modifier mod(m);
+         mod.resize(2000001);
+       }},
+  };
+  std::map<std::string, long> expected;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    auto bad = xyzCloud(1000, 5.0f);
+    c.spoil(*bad);
+    bad->header.stamp = stamp += dt;
+    ros::WallDuration(1.1).sleep();  // past the 1 s throttle of the previous error
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      logs_.clear();  // each case's error must be its own
+    }
+    g_.publishRaw(bad);
+    ++expected[c.counter];
+    ASSERT_TRUE(goodFrame(stamp += dt)) << "no output after: " << c.what;
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::ERROR, c.log)) << c.what;
+    EXPECT_TRUE(waitFor([&] { return counter(c.counter) >= expected[c.counter]; }, 5.0))
+        << c.what << ": " << c.counter << " = " << counter(c.counter);
+  }
+
+  // Inf coordinates: dropped and counted like NaN, the frame is valid.
+  {
+    auto with_inf = xyzCloud(1000, 5.0f);
+    sensor_msgs::PointCloud2Iterator<float> z(*with_inf, "z");
+    for (int i = 0; i < 300; ++i, ++z) *z = (i % 2 ? 1.0f : -1.0f) * std::numeric_limits<float>::infinity();
+    with_inf->header.stamp = stamp += dt;
+    const long dropped = counter("points dropped (NaN/Inf/zero)");
+    const std::size_t before = g_.recorder().count(g_.recorder().detections);
+    g_.publishRaw(with_inf);
+    EXPECT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0));
+    EXPECT_TRUE(waitFor([&] { return counter("points dropped (NaN/Inf/zero)") >= dropped + 300; }, 5.0));
+  }
+
+  // Exactly max_points (2,000,000): a valid frame, processed.
+  {
+    auto big = xyzCloud(2000000, 5.0f);
+    big->header.stamp = stamp += dt;
+    const std::size_t before = g_.recorder().count(g_.recorder().detections);
+    g_.publishRaw(big);
+    EXPECT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 30.0))
+        << "a 2,000,000-point cloud is within max_points and must be processed";
+    ASSERT_TRUE(goodFrame(stamp += dt));
+  }
+
+  // Repeating stamp: warned about, counted, processed.
+  {
+    const long repeated = counter("repeated stamps");
+    ASSERT_TRUE(goodFrame(stamp));
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "repeats the previous frame"));
+    EXPECT_TRUE(waitFor([&] { return counter("repeated stamps") >= repeated + 1; }, 5.0))
+        << "repeated stamps " << counter("repeated stamps");
+    ASSERT_TRUE(goodFrame(stamp += dt));
+  }
+
+  // frame_id changing mid-stream to a frame without a transform to base_link.
+  {
+    const long tf_before = counter("transform failures");
+    const long changes_before = counter("output frame changes");
+    auto orphan = xyzCloud(1000, 5.0f);
+    orphan->header.frame_id = "lidar_without_tf";
+    orphan->header.stamp = stamp += dt;
+    const std::size_t before = g_.recorder().count(g_.recorder().detections);
+    g_.publishRaw(orphan);
+    ASSERT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0));
+    {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      EXPECT_EQ(g_.recorder().detections.back()->header.frame_id, "lidar_without_tf")
+          << "boxes stay in the sensor frame when the transform is missing";
+    }
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "no transform lidar_without_tf -> base_link"));
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "output frame changed from 'base_link' to 'lidar_without_tf'"));
+    // Back to the sensor frame with its transform: base_link again, another reset.
+    ASSERT_TRUE(goodFrame(stamp += dt));
+    {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      EXPECT_EQ(g_.recorder().detections.back()->header.frame_id, "base_link");
+    }
+    EXPECT_TRUE(waitFor([&] {
+      return counter("transform failures") >= tf_before + 1 &&
+             counter("output frame changes") >= changes_before + 2;
+    }, 5.0)) << "transform failures " << counter("transform failures") << ", frame changes "
+             << counter("output frame changes");
+  }
+  ASSERT_TRUE(goodFrame(stamp += dt));
 }
 
 }  // namespace

@@ -52,7 +52,8 @@ const char* toString(DecodeError error);
 struct DecodeStats {
   std::size_t total = 0;             // points in the message
   std::size_t kept = 0;              // points written to the output
-  std::size_t dropped_nonfinite = 0; // NaN / Inf coordinates (and FLOAT64 beyond float's range)
+  std::size_t dropped_nonfinite = 0; // NaN / Inf coordinates (and FLOAT64 beyond float's range,
+                                     // and points whose transform overflows float)
   std::size_t dropped_zero = 0;      // exact (0, 0, 0): "no return" on many drivers
 };
 
