@@ -1,6 +1,8 @@
 #include "icanc/core/danger.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 namespace icanc {
@@ -14,12 +16,49 @@ const char* toString(Section section) {
   return "unknown";
 }
 
+const char* toString(DangerModel model) {
+  switch (model) {
+    case DangerModel::kPaper: return "paper";
+    case DangerModel::kPredictive: return "predictive";
+    case DangerModel::kInvalid: break;
+  }
+  return "invalid";
+}
+
+DangerModel parseDangerModel(const std::string& name) {
+  if (name == "paper") return DangerModel::kPaper;
+  if (name == "predictive") return DangerModel::kPredictive;
+  return DangerModel::kInvalid;
+}
+
 std::string validate(const DangerParams& params) {
   std::ostringstream why;
   if (!(params.half_width_m > 0.0))
     why << "danger.half_width_m must be > 0 (got " << params.half_width_m << ")";
   else if (!(params.reaction_time_s > 0.0))
     why << "danger.reaction_time_s must be > 0 (got " << params.reaction_time_s << ")";
+  else if (params.model != DangerModel::kPaper && params.model != DangerModel::kPredictive)
+    why << "danger.model must be \"paper\" or \"predictive\"";
+  else if (!(params.margin_m >= 0.0))
+    why << "danger.margin_m must be >= 0 (got " << params.margin_m << ")";
+  else if (!(params.vehicle_front_m >= 0.0))
+    why << "danger.vehicle_front_m must be >= 0 (got " << params.vehicle_front_m << ")";
+  else if (!(params.stopping_margin_m > 0.0))
+    why << "danger.stopping_margin_m must be > 0 (got " << params.stopping_margin_m << ")";
+  else if (!(params.velocity_std_k >= 0.0))
+    why << "danger.velocity_std_k must be >= 0 (got " << params.velocity_std_k << ")";
+  else if (!(params.uncertainty_cap_m >= 0.0))
+    why << "danger.uncertainty_cap_m must be >= 0 (got " << params.uncertainty_cap_m << ")";
+  else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
+    why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
+  else if (params.on_frames < 1)
+    why << "danger.on_frames must be >= 1 (got " << params.on_frames << ")";
+  else if (params.off_frames < 1)
+    why << "danger.off_frames must be >= 1 (got " << params.off_frames << ")";
+  else if (!(params.immediate_ttc_s >= 0.0))
+    why << "danger.immediate_ttc_s must be >= 0 (got " << params.immediate_ttc_s << ")";
+  else if (!(params.forget_after_s > 0.0))
+    why << "danger.forget_after_s must be > 0 (got " << params.forget_after_s << ")";
   return why.str();
 }
 
@@ -52,6 +91,22 @@ double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector
   return closest.norm();
 }
 
+double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
+  const double half_width = params.half_width_m + params.margin_m;
+  const double length = params.vehicle_front_m + params.stopping_margin_m;
+  const double sigma = std::isfinite(object.velocity_std) ? std::max(0.0, object.velocity_std) : 0.0;
+  const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = std::min(i * params.time_step_s, params.reaction_time_s);
+    const double grow = std::min(params.velocity_std_k * sigma * t, params.uncertainty_cap_m);
+    const double dx = object.velocity.x() * t, dy = object.velocity.y() * t;
+    const double x0 = object.aabb_min.x() + dx - grow, x1 = object.aabb_max.x() + dx + grow;
+    const double y0 = object.aabb_min.y() + dy - grow, y1 = object.aabb_max.y() + dy + grow;
+    if (x1 >= 0.0 && x0 <= length && y1 >= -half_width && y0 <= half_width) return t;
+  }
+  return -1.0;
+}
+
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params) {
   DangerAssessment a;
   a.speed_mps = getSpeedOfObject(object.velocity);
@@ -60,8 +115,36 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.heading_deg = headingDeg(object.velocity);
   a.threshold_m = a.speed_mps * params.reaction_time_s;
   a.moving_toward = isMovingTowardMe(a.heading_deg, a.section);
-  a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;
+  if (params.model == DangerModel::kPredictive) {
+    a.time_to_corridor_s = predictedTimeToCorridor(object, params);
+    a.dangerous = a.time_to_corridor_s >= 0.0;
+  } else {
+    a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;
+  }
   return a;
+}
+
+bool DangerHysteresis::update(std::uint32_t id, const DangerAssessment& raw, double now_s) {
+  if (now_s < last_now_s_) tracks_.clear();  // time went backwards: a new replay
+  last_now_s_ = now_s;
+  if (now_s - last_prune_s_ >= params_.forget_after_s) {
+    for (auto it = tracks_.begin(); it != tracks_.end();)
+      it = now_s - it->second.last_seen_s > params_.forget_after_s ? tracks_.erase(it) : std::next(it);
+    last_prune_s_ = now_s;
+  }
+  Track& track = tracks_[id];
+  track.last_seen_s = now_s;
+  if (raw.dangerous) {
+    ++track.positives;
+    track.negatives = 0;
+    const bool urgent = raw.time_to_corridor_s >= 0.0 && raw.time_to_corridor_s <= params_.immediate_ttc_s;
+    if (urgent || track.positives >= params_.on_frames) track.on = true;
+  } else {
+    ++track.negatives;
+    track.positives = 0;
+    if (track.negatives >= params_.off_frames) track.on = false;
+  }
+  return track.on;
 }
 
 }  // namespace icanc

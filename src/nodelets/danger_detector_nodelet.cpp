@@ -1,4 +1,5 @@
-// icanc/DangerDetector: marks each obstacle with the paper's rule (icanc/danger.hpp) and
+// icanc/DangerDetector: marks each obstacle with the danger model of ~model (icanc/danger.hpp:
+// "paper" = Listing 1, "predictive" = corridor prediction with per-track hysteresis) and
 // republishes the array with num_dangerous. Glue only.
 #include <memory>
 #include <mutex>
@@ -25,25 +26,31 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     bool trace = false;
     reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
     if (!checkParams(getName(), reader, validate(params_))) return;
+    hysteresis_.reset(new DangerHysteresis(params_));
 
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "danger"));
     diagnostics_->updater().add("danger detector", this, &DangerDetectorNodelet::diagnose);
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles_danger", 5);
     sub_ = nh.subscribe("obstacles", 5, &DangerDetectorNodelet::onObstacles, this);
-    NODELET_INFO("DangerDetector: half_width %.2f m, reaction_time %.2f s", params_.half_width_m,
-                 params_.reaction_time_s);
+    NODELET_INFO("DangerDetector: model %s, half_width %.2f m, reaction_time %.2f s",
+                 toString(params_.model), params_.half_width_m, params_.reaction_time_s);
   }
 
   void onObstacles(const ObstacleArray::ConstPtr& msg) {
     auto out = boost::make_shared<ObstacleArray>(*msg);
     std::uint32_t dangerous = 0;
+    const bool predictive = params_.model == DangerModel::kPredictive;
+    const double now = msg->header.stamp.toSec();
     for (Obstacle& o : out->obstacles) {
-      const DangerAssessment a = assessDanger(toKinematics(o), params_);
+      ObjectKinematics k = toKinematics(o);
+      k.velocity_std = o.velocity_std;
+      const DangerAssessment a = assessDanger(k, params_);
       o.section = static_cast<std::uint8_t>(a.section);
       o.closest_distance = static_cast<float>(a.distance_m);
       o.moving_toward = a.moving_toward;
-      o.dangerous = a.dangerous;
-      dangerous += a.dangerous;
+      // The paper's rule is per frame, as published; the predictive model is smoothed per track.
+      o.dangerous = predictive ? hysteresis_->update(o.id, a, now) : a.dangerous;
+      dangerous += o.dangerous;
     }
     out->num_dangerous = dangerous;
     {
@@ -63,11 +70,13 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     stat.add("dangerous object-frames", dangerous_total_);
     stat.add("obstacles (last array)", last_obstacles_);
     stat.add("dangerous (last array)", last_dangerous_);
+    stat.add("model", toString(params_.model));
     stat.add("half_width_m", params_.half_width_m);
     stat.add("reaction_time_s", params_.reaction_time_s);
   }
 
   DangerParams params_;
+  std::unique_ptr<DangerHysteresis> hysteresis_;
   std::unique_ptr<Diagnostics> diagnostics_;
   ZeroCopyPublisher pub_;
   ros::Subscriber sub_;

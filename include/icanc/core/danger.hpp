@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 
 #include <Eigen/Core>
 
@@ -15,9 +16,35 @@ namespace icanc {
 enum class Section : std::uint8_t { kLeft = 1, kFront = 2, kRight = 3 };
 const char* toString(Section section);
 
+// Which rule assessDanger applies. kPaper: Listing 1 (the reference, default). kPredictive: the
+// predicted relative motion of the box over the reaction time against the vehicle's corridor
+// (issue 9). kInvalid: an unknown name was read; validate() rejects it.
+enum class DangerModel : std::uint8_t { kPaper, kPredictive, kInvalid };
+const char* toString(DangerModel model);
+// "paper" / "predictive" -> the model; anything else -> kInvalid.
+DangerModel parseDangerModel(const std::string& name);
+
 struct DangerParams {
   double half_width_m = 0.7;     // w: path half-width (paper: 0.7 Zebra, 1.2 CARLA Model 3)
   double reaction_time_s = 3.0;  // t: reaction time allowed (paper: 3 Zebra, 2 CARLA)
+  DangerModel model = DangerModel::kPaper;
+
+  // kPredictive only. The corridor has the ground truth's meaning (CorridorParams):
+  // |y| <= half_width_m + margin_m, 0 <= x <= vehicle_front_m + stopping_margin_m.
+  double margin_m = 0.3;
+  double vehicle_front_m = 0.5;
+  double stopping_margin_m = 1.0;
+  // Velocity uncertainty: the predicted footprint grows by min(k * sigma * t, cap) on every side,
+  // so a track whose velocity is still uncertain errs toward danger when it is near the path.
+  double velocity_std_k = 1.0;
+  double uncertainty_cap_m = 1.0;
+  double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
+  // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
+  // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
+  int on_frames = 2;
+  int off_frames = 3;
+  double immediate_ttc_s = 1.5;
+  double forget_after_s = 1.0;   // a track id not seen for this long is forgotten
 };
 
 std::string validate(const DangerParams& params);
@@ -48,6 +75,7 @@ struct ObjectKinematics {
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // relative to the vehicle [m/s]
+  double velocity_std = 0.0;  // 1-sigma planar velocity uncertainty of the filter [m/s]
 };
 
 struct DangerAssessment {
@@ -58,9 +86,41 @@ struct DangerAssessment {
   double threshold_m = 0.0;  // speed * reaction_time
   bool moving_toward = false;
   bool dangerous = false;
+  // kPredictive: seconds until the predicted (inflated) footprint first overlaps the corridor,
+  // 0 when it already does, -1 when not within the reaction time. kPaper: always -1.
+  double time_to_corridor_s = -1.0;
 };
 
-// Listing 1: dangerous when distance <= speed * reaction_time and isMovingTowardMe.
+// Dispatches on params.model. kPaper (Listing 1): dangerous when distance <= speed *
+// reaction_time and isMovingTowardMe. kPredictive: dangerous when timeToCorridor >= 0 (section,
+// distance, speed, heading and moving_toward are filled as for the paper's rule, for display).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
+
+// kPredictive's core: the axis-aligned footprint [aabb_min, aabb_max] (x, y) moving at the
+// relative velocity, grown by min(k * velocity_std * t, cap), sampled every time_step_s over
+// [0, reaction_time]: the first time it overlaps the corridor, or -1.
+double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
+
+// Per-track hysteresis of the danger label (params: on_frames, off_frames, immediate_ttc_s,
+// forget_after_s). Call update() for each obstacle of a frame with the frame's time; ids not
+// seen for forget_after_s are dropped, and time going backwards (a replay restarting) clears all.
+class DangerHysteresis {
+ public:
+  explicit DangerHysteresis(const DangerParams& params) : params_(params) {}
+  bool update(std::uint32_t id, const DangerAssessment& raw, double now_s);
+  std::size_t size() const { return tracks_.size(); }
+
+ private:
+  struct Track {
+    bool on = false;
+    int positives = 0;
+    int negatives = 0;
+    double last_seen_s = 0.0;
+  };
+  DangerParams params_;
+  std::unordered_map<std::uint32_t, Track> tracks_;
+  double last_now_s_ = -1e300;
+  double last_prune_s_ = -1e300;
+};
 
 }  // namespace icanc

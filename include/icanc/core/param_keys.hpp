@@ -3,6 +3,8 @@
 // (icanc/core/yaml_params.hpp) both walk these lists, so a key is spelled in one place only.
 #pragma once
 
+#include <string>
+
 #include "icanc/core/danger.hpp"
 #include "icanc/core/ground_truth.hpp"
 #include "icanc/core/light_controller.hpp"
@@ -39,6 +41,19 @@ template <class Reader>
 void visitParams(Reader& r, DangerParams& p) {
   r("half_width_m", p.half_width_m);
   r("reaction_time_s", p.reaction_time_s);
+  std::string model = toString(p.model);  // "paper" | "predictive"; validate() rejects others
+  r("model", model);
+  p.model = parseDangerModel(model);
+  r("predictive/margin_m", p.margin_m);
+  r("predictive/vehicle_front_m", p.vehicle_front_m);
+  r("predictive/stopping_margin_m", p.stopping_margin_m);
+  r("predictive/velocity_std_k", p.velocity_std_k);
+  r("predictive/uncertainty_cap_m", p.uncertainty_cap_m);
+  r("predictive/time_step_s", p.time_step_s);
+  r("predictive/on_frames", p.on_frames);
+  r("predictive/off_frames", p.off_frames);
+  r("predictive/immediate_ttc_s", p.immediate_ttc_s);
+  r("predictive/forget_after_s", p.forget_after_s);
 }
 
 template <class Reader>

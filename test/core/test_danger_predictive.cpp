@@ -1,0 +1,122 @@
+// Issue 9: the predictive danger model (corridor prediction over the reaction time) and its
+// per-track hysteresis, against the paper's rule on the same objects. Zebra profile: corridor
+// |y| <= 0.7 + 0.3 m, 0 <= x <= 0.5 + 1.0 m, reaction time 3 s.
+#include <gtest/gtest.h>
+
+#include "icanc/core/danger.hpp"
+
+namespace icanc {
+namespace {
+
+ObjectKinematics boxAt(double x, double y, double half, double vx, double vy, double sigma = 0.0) {
+  ObjectKinematics o;
+  o.center = Eigen::Vector3d(x, y, 0.0);
+  o.aabb_min = o.center - Eigen::Vector3d(half, half, 0.85);
+  o.aabb_max = o.center + Eigen::Vector3d(half, half, 0.85);
+  o.velocity = Eigen::Vector3d(vx, vy, 0.0);
+  o.velocity_std = sigma;
+  return o;
+}
+
+DangerParams zebra(DangerModel model) {
+  DangerParams p;  // defaults: half_width 0.7, reaction 3 s, margin 0.3, front 0.5, stopping 1.0
+  p.model = model;
+  return p;
+}
+
+TEST(DangerModel, ParsesNamesAndRejectsUnknown) {
+  EXPECT_EQ(parseDangerModel("paper"), DangerModel::kPaper);
+  EXPECT_EQ(parseDangerModel("predictive"), DangerModel::kPredictive);
+  EXPECT_EQ(parseDangerModel("Predictive"), DangerModel::kInvalid);
+  EXPECT_STREQ(toString(DangerModel::kPredictive), "predictive");
+  DangerParams p;
+  EXPECT_EQ(p.model, DangerModel::kPaper);  // the paper's rule stays the default
+  EXPECT_EQ(validate(p), "");
+  p.model = parseDangerModel("bogus");
+  EXPECT_NE(validate(p).find("danger.model"), std::string::npos);
+  p = DangerParams();
+  p.off_frames = 0;
+  EXPECT_NE(validate(p).find("off_frames"), std::string::npos);
+  p = DangerParams();
+  p.time_step_s = 0.0;
+  EXPECT_NE(validate(p).find("time_step_s"), std::string::npos);
+}
+
+TEST(DangerPredictive, PedestrianWalkingTowardIsDangerousBeforeThePapersRule) {
+  // Front edge at 4.25 m, 1.2 m/s toward: reaches x = 1.5 m after 2.29 s < 3 s.
+  const ObjectKinematics o = boxAt(4.5, 0.0, 0.25, -1.2, 0.0);
+  const DangerAssessment pred = assessDanger(o, zebra(DangerModel::kPredictive));
+  EXPECT_TRUE(pred.dangerous);
+  EXPECT_NEAR(pred.time_to_corridor_s, 2.3, 0.051);
+  // The paper's rule: distance 4.25 m > 1.2 * 3 = 3.6 m, not yet.
+  EXPECT_FALSE(assessDanger(o, zebra(DangerModel::kPaper)).dangerous);
+  // Farther away it does not reach the corridor within 3 s.
+  EXPECT_FALSE(assessDanger(boxAt(5.5, 0.0, 0.25, -1.2, 0.0), zebra(DangerModel::kPredictive)).dangerous);
+}
+
+TEST(DangerPredictive, StandingInThePathIsDangerous) {
+  const ObjectKinematics o = boxAt(1.2, 0.3, 0.25, 0.0, 0.0);
+  const DangerAssessment pred = assessDanger(o, zebra(DangerModel::kPredictive));
+  EXPECT_TRUE(pred.dangerous);
+  EXPECT_DOUBLE_EQ(pred.time_to_corridor_s, 0.0);
+  EXPECT_FALSE(assessDanger(o, zebra(DangerModel::kPaper)).dangerous);  // speed 0: threshold 0
+  // The box extent counts, not its centre: centre 1.15 m to the side, edge 0.9 m inside 1.0 m.
+  EXPECT_TRUE(assessDanger(boxAt(1.0, 1.15, 0.25, 0.0, 0.0), zebra(DangerModel::kPredictive)).dangerous);
+  EXPECT_FALSE(assessDanger(boxAt(1.0, 1.35, 0.25, 0.0, 0.0), zebra(DangerModel::kPredictive)).dangerous);
+}
+
+TEST(DangerPredictive, WalkingParallelOutsideTheCorridorIsNot) {
+  // Edge at y = 1.75 m, corridor half-width 1.0 m; walking past along -x with a settled filter.
+  EXPECT_FALSE(assessDanger(boxAt(3.0, 2.0, 0.25, -1.2, 0.0, 0.1), zebra(DangerModel::kPredictive)).dangerous);
+  EXPECT_FALSE(assessDanger(boxAt(3.0, -2.0, 0.25, 1.2, 0.0, 0.1), zebra(DangerModel::kPredictive)).dangerous);
+  // The same walker turning toward the path (0.5 m/s sideways) enters it within 3 s.
+  EXPECT_TRUE(assessDanger(boxAt(3.0, 2.0, 0.25, -0.5, -0.5, 0.1), zebra(DangerModel::kPredictive)).dangerous);
+}
+
+TEST(DangerPredictive, UncertainNewTrackNearThePathErrsTowardDanger) {
+  // Edge 0.15 m outside the corridor, estimated at rest.
+  const ObjectKinematics settled = boxAt(2.5, 1.4, 0.25, 0.0, 0.0, 0.0);
+  const ObjectKinematics fresh = boxAt(2.5, 1.4, 0.25, 0.0, 0.0, 5.0);  // initial_velocity_std
+  EXPECT_FALSE(assessDanger(settled, zebra(DangerModel::kPredictive)).dangerous);
+  EXPECT_TRUE(assessDanger(fresh, zebra(DangerModel::kPredictive)).dangerous);
+  // ... but only near: the growth is capped (1 m), a fresh track 4 m to the side stays safe.
+  EXPECT_FALSE(assessDanger(boxAt(2.5, 4.0, 0.25, 0.0, 0.0, 5.0), zebra(DangerModel::kPredictive)).dangerous);
+  DangerParams no_uncertainty = zebra(DangerModel::kPredictive);
+  no_uncertainty.velocity_std_k = 0.0;
+  EXPECT_FALSE(assessDanger(fresh, no_uncertainty).dangerous);
+}
+
+TEST(DangerPredictive, StaticObjectWhileTheVehicleMovesOnlyInTheFutureFootprint) {
+  // The vehicle drives at 2 m/s: a static object approaches at -2 m/s.
+  const DangerParams p = zebra(DangerModel::kPredictive);
+  EXPECT_TRUE(assessDanger(boxAt(6.0, 0.0, 0.25, -2.0, 0.0), p).dangerous);    // 4.25 m: 2.1 s
+  EXPECT_FALSE(assessDanger(boxAt(10.0, 0.0, 0.25, -2.0, 0.0), p).dangerous);  // 8.25 m: 4.1 s
+  EXPECT_FALSE(assessDanger(boxAt(6.0, 3.0, 0.25, -2.0, 0.0), p).dangerous);   // beside the path
+  EXPECT_FALSE(assessDanger(boxAt(-1.0, 0.0, 0.25, -2.0, 0.0), p).dangerous);  // behind, receding
+  EXPECT_TRUE(assessDanger(boxAt(10.0, 0.0, 0.25, -4.0, 0.0), p).dangerous);   // at 4 m/s: 2.06 s
+}
+
+TEST(DangerHysteresis, HoldsThroughOneSafeFrameAndDropsAfterOffFrames) {
+  DangerParams p = zebra(DangerModel::kPredictive);  // on_frames 2, off_frames 3, immediate 1.5 s
+  DangerHysteresis h(p);
+  DangerAssessment far_danger, safe, urgent;
+  far_danger.dangerous = true;
+  far_danger.time_to_corridor_s = 2.5;
+  urgent.dangerous = true;
+  urgent.time_to_corridor_s = 0.5;
+  EXPECT_FALSE(h.update(7, far_danger, 0.0));  // first positive frame: not yet
+  EXPECT_TRUE(h.update(7, far_danger, 0.1));   // second: on
+  EXPECT_TRUE(h.update(7, safe, 0.2));         // one safe frame: held
+  EXPECT_TRUE(h.update(7, far_danger, 0.3));   // back
+  EXPECT_TRUE(h.update(7, safe, 0.4));
+  EXPECT_TRUE(h.update(7, safe, 0.5));
+  EXPECT_FALSE(h.update(7, safe, 0.6));        // third consecutive safe frame: off
+  EXPECT_TRUE(h.update(8, urgent, 0.6));       // about to enter: on at once
+  EXPECT_EQ(h.size(), 2u);
+  EXPECT_FALSE(h.update(9, safe, 5.0));        // ids 7 and 8 not seen for > 1 s: forgotten
+  EXPECT_EQ(h.size(), 1u);
+  EXPECT_FALSE(h.update(8, far_danger, 5.1));  // a forgotten id starts again
+}
+
+}  // namespace
+}  // namespace icanc
