@@ -20,6 +20,7 @@ sensor_msgs::PointCloud2::Ptr xyzCloud(std::size_t n, float x0) {
   sensor_msgs::PointCloud2Modifier mod(*msg);
   mod.setPointCloud2FieldsByString(1, "xyz");
   mod.resize(n);
+  if (n == 0) return msg;  // an iterator over empty data dereferences data.front()
   sensor_msgs::PointCloud2Iterator<float> x(*msg, "x"), y(*msg, "y"), z(*msg, "z");
   for (std::size_t i = 0; i < n; ++i, ++x, ++y, ++z) {
     *x = x0 + 0.05f * (i % 10);
