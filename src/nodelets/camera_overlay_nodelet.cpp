@@ -105,6 +105,9 @@ class CameraOverlayNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     cv_bridge::CvImagePtr out;
     try {
+      if (msg->width == 0 || msg->height == 0 ||
+          msg->data.size() < static_cast<std::size_t>(msg->step) * msg->height)
+        throw std::invalid_argument("data shorter than step * height");
       out = cv_bridge::toCvCopy(msg, sensor_msgs::image_encodings::BGR8);
     } catch (const std::exception& ex) {
       ++bad_inputs_;

@@ -5,6 +5,8 @@
 // of receipt, as in the LightController (sim time during replay). Glue only.
 #include <memory>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include <boost/make_shared.hpp>
 #include <cv_bridge/cv_bridge.h>
@@ -48,6 +50,10 @@ class IlluminationMonitorNodelet : public nodelet::Nodelet {
   double measure(const sensor_msgs::ImageConstPtr& msg) {
     namespace enc = sensor_msgs::image_encodings;
     try {
+      if (msg->width == 0 || msg->height == 0 ||
+          msg->data.size() < static_cast<std::size_t>(msg->step) * msg->height)
+        throw std::invalid_argument("data holds " + std::to_string(msg->data.size()) +
+                                    " bytes, less than step * height");
       const std::string& e = msg->encoding;
       const IlluminationParams& p = monitor_->params();
       if (e == enc::BGR8 || e == enc::BGR16 || e == enc::RGB8 || e == enc::RGB16 || e == enc::MONO8 ||

@@ -3,6 +3,11 @@
 // first with daylight camera images, then with a night street (a street lamp in view). The
 // IlluminationMonitor must turn bright, then dark, each only after min_dwell_s of such images;
 // in daylight the danger must not switch the lamp on (reason "daylight"), at night it must.
+// Malformed images are logged, counted in diagnostics and ignored: the state goes unknown (the
+// paper's behaviour) and comes back with good images, the nodelet still running.
+#include <functional>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 
 #include "icanc/IlluminationState.h"
@@ -99,6 +104,76 @@ TEST(IlluminationGate, NoDangerLampInDaylightButAtNight) {
   EXPECT_GT(night_danger_on, 0u) << "lamp never on for danger at night";
   std::printf("dangerous arrays: %zu in daylight, %zu at night; lamp-on-for-danger states at night: %zu\n",
               day_danger, night_danger, night_danger_on);
+}
+
+// Images the monitor cannot read: data shorter than step * height, an encoding without a
+// luminance (32FC1), an empty image.
+std::vector<sensor_msgs::ImageConstPtr> malformedImages(const ros::Time& stamp) {
+  std::vector<sensor_msgs::ImageConstPtr> out;
+  auto shortData = boost::make_shared<sensor_msgs::Image>(*toImageMsg(dayImage(), stamp, "camera"));
+  shortData->data.resize(shortData->data.size() / 2);
+  out.push_back(shortData);
+  auto floats = boost::make_shared<sensor_msgs::Image>(*toImageMsg(dayImage(), stamp, "camera"));
+  floats->encoding = "32FC1";
+  floats->step = floats->width * 4;
+  floats->data.resize(floats->step * floats->height);
+  out.push_back(floats);
+  auto empty = boost::make_shared<sensor_msgs::Image>();
+  empty->header.stamp = stamp;
+  empty->encoding = "bgr8";
+  out.push_back(empty);
+  return out;
+}
+
+TEST(IlluminationGate, MalformedImagesAreCountedAndTheStateGoesUnknown) {
+  ros::NodeHandle nh;
+  ros::Publisher image_pub = nh.advertise<sensor_msgs::Image>("/test/camera/image", 5);
+  IlluminationLog illum;
+  ros::Subscriber illum_sub = nh.subscribe("/icanc/illumination", 100, &IlluminationLog::on, &illum);
+  std::mutex mutex;
+  long bad_images = -1;
+  ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
+      [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& st : m->status) {
+          if (st.name.find("illumination monitor") == std::string::npos) continue;
+          for (const auto& kv : st.values)
+            if (kv.key == "bad images") {
+              std::lock_guard<std::mutex> l(mutex);
+              bad_images = std::stol(kv.value);
+            }
+        }
+      });
+  ASSERT_TRUE(waitFor([&] { return image_pub.getNumSubscribers() > 0 && illum_sub.getNumPublishers() > 0; }, 30.0));
+  double dwell = 0.0, stale = 0.0;
+  ASSERT_TRUE(ros::param::get("/icanc/illumination_monitor/min_dwell_s", dwell));
+  ASSERT_TRUE(ros::param::get("/icanc/illumination_monitor/stale_timeout_s", stale));
+  const auto publishFor = [&](double seconds, const std::function<void(const ros::Time&)>& send) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      send(ros::Time::now());
+      ros::WallDuration(0.1).sleep();
+    }
+  };
+  const cv::Mat night = nightImage();
+  const auto good = [&](const ros::Time& t) { image_pub.publish(toImageMsg(night, t, "camera")); };
+  const ros::Time start = ros::Time::now();
+  publishFor(dwell + 0.5, good);
+  ASSERT_FALSE(illum.first(IlluminationState::STATE_DARK, start).isZero());
+
+  const ros::Time bad_start = ros::Time::now();
+  publishFor(stale + 1.5, [&](const ros::Time& t) {
+    for (const auto& m : malformedImages(t)) image_pub.publish(m);
+  });
+  const ros::Time unknown_at = illum.first(IlluminationState::STATE_UNKNOWN, bad_start);
+  ASSERT_FALSE(unknown_at.isZero()) << "malformed images kept the state alive";
+  EXPECT_LE((unknown_at - bad_start).toSec(), stale + 0.3);
+  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> l(mutex); return bad_images >= 6; }, 3.0))
+      << "diagnostics do not count the bad images (last: " << bad_images << ")";
+
+  // Still running: good images bring the state back after the dwell.
+  const ros::Time again = ros::Time::now();
+  publishFor(dwell + 0.5, good);
+  EXPECT_FALSE(illum.first(IlluminationState::STATE_DARK, again).isZero());
 }
 
 }  // namespace
