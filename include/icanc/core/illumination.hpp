@@ -1,7 +1,8 @@
 // Scene illumination from the camera image: ICanC only has work to do in low light. A robust
 // brightness (a percentile of luminance over a subsampled grid, so a street lamp covering a few
 // per cent of the image does not move it) feeds a dark/bright state machine with hysteresis (two
-// thresholds) and a minimum dwell time. Time is an argument (image stamps), never a clock.
+// thresholds) and a minimum dwell time. Time is an argument (the nodelet passes ROS time of
+// receipt, as the LightController does), never read from a clock.
 //
 //   unknown --brightness <= dark_at--> dark, --brightness >= bright_at--> bright (after dwell)
 //   dark  --brightness >= bright_at for min_dwell_s--> bright
