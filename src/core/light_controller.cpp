@@ -15,6 +15,9 @@ std::string validate(const LightControllerParams& params) {
   else if (!(params.stale_timeout_s >= 0.0))
     why << "light.stale_timeout_s must be >= 0, 0 disables the watchdog (got "
         << params.stale_timeout_s << ")";
+  else if (!(params.illumination_stale_timeout_s > 0.0))
+    why << "light.illumination/stale_timeout_s must be > 0 (got "
+        << params.illumination_stale_timeout_s << ")";
   return why.str();
 }
 
@@ -23,6 +26,7 @@ const char* toString(LightReason reason) {
     case LightReason::kOff: return "off";
     case LightReason::kDanger: return "danger";
     case LightReason::kSensorStale: return "sensor stale";
+    case LightReason::kDaylight: return "daylight";
   }
   return "unknown";
 }
@@ -33,6 +37,14 @@ void LightController::reset() {
   timer_running_ = false;
   has_input_ = false;
   stale_ = true;
+  illumination_ = Illumination::kUnknown;
+  daylight_ = false;
+}
+
+void LightController::updateDaylight(double now) {
+  daylight_ = params_.illumination_enabled && illumination_ == Illumination::kBright &&
+              now - illumination_s_ <= params_.illumination_stale_timeout_s + 1e-9;
+  if (daylight_) timer_running_ = false;  // no danger lamp in daylight
 }
 
 bool LightController::tick(double now) {
@@ -46,6 +58,17 @@ bool LightController::tick(double now) {
   // 1 ns of slack: stamps in seconds as doubles (1.3 - 1.0 > 0.3).
   stale_ = !has_input_ || (params_.stale_timeout_s > 0.0 &&
                            now - last_input_s_ > params_.stale_timeout_s + 1e-9);
+  updateDaylight(now);
+  return was_on != on() || was_reason != reason();
+}
+
+bool LightController::onIllumination(double now, Illumination state) {
+  const bool was_on = on();
+  const LightReason was_reason = reason();
+  tick(now);
+  illumination_ = state;
+  illumination_s_ = now;
+  updateDaylight(now);
   return was_on != on() || was_reason != reason();
 }
 
@@ -54,7 +77,7 @@ bool LightController::onInput(double now, bool any_danger) {
   has_input_ = true;
   last_input_s_ = now;
   stale_ = false;
-  if (!any_danger) return false;
+  if (!any_danger || daylight_) return false;
   if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + 1e-9) return false;  // ignored
   timer_running_ = true;
   timer_end_s_ = now + params_.tau_s;
@@ -64,6 +87,7 @@ bool LightController::onInput(double now, bool any_danger) {
 
 LightReason LightController::reason() const {
   if (stale_) return LightReason::kSensorStale;
+  if (daylight_) return LightReason::kDaylight;
   if (timer_running_) return LightReason::kDanger;
   return LightReason::kOff;
 }

@@ -80,6 +80,7 @@ Profile loadProfile(const std::string& path) {
   p.corridor.half_width_m = p.danger.half_width_m;
   p.corridor.horizon_s = p.danger.reaction_time_s;
   readSection(root, path, "ground_truth", p.corridor);
+  readSection(root, path, "illumination_monitor", p.illumination);
   return p;
 }
 

@@ -9,6 +9,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <std_msgs/Bool.h>
 
+#include "icanc/IlluminationState.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/light_controller.hpp"
@@ -42,6 +43,11 @@ class LightControllerNodelet : public nodelet::Nodelet {
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
     timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
+    if (params.illumination_enabled) {  // camera illumination gate (IlluminationMonitor)
+      illumination_sub_ = nh.subscribe("illumination", 5, &LightControllerNodelet::onIllumination, this);
+      NODELET_INFO("LightController: illumination gate on %s (no danger lamp in daylight)",
+                   illumination_sub_.getTopic().c_str());
+    }
     NODELET_INFO("LightController: tau %.2f s, recheck below %.2f s, watchdog %.2f s",
                  params.tau_s, params.recheck_below_s, params.stale_timeout_s);
   }
@@ -60,6 +66,20 @@ class LightControllerNodelet : public nodelet::Nodelet {
     }
     // Every input is answered (replay tools wait for it); changes are among them.
     publish(now, true);
+  }
+
+  void onIllumination(const IlluminationState::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ros::Time now = ros::Time::now();
+    Illumination state = Illumination::kUnknown;
+    if (msg->state <= IlluminationState::STATE_BRIGHT) {
+      state = static_cast<Illumination>(msg->state);
+    } else {
+      ++bad_illumination_;
+      NODELET_ERROR_THROTTLE(5.0, "illumination state %u is invalid: treated as unknown", msg->state);
+    }
+    illumination_ = state;
+    if (controller_->onIllumination(now.toSec(), state)) publish(now, false);
   }
 
   void onTick(const ros::TimerEvent&) {
@@ -112,6 +132,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
     stat.add("timer starts/resets", triggers_);
     stat.add("lamp transitions", transitions_);
     stat.add("sensor stale events", stale_events_);
+    if (controller_->params().illumination_enabled) {
+      stat.add("illumination", toString(illumination_));
+      stat.add("invalid illumination messages", bad_illumination_);
+    }
   }
 
   std::unique_ptr<LightController> controller_;
@@ -119,6 +143,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
   ZeroCopyPublisher state_pub_;
   ros::Publisher lamp_pub_;
   ros::Subscriber sub_;
+  ros::Subscriber illumination_sub_;
   ros::Timer timer_;
   double publish_rate_hz_ = 10.0;
   double tick_rate_hz_ = 50.0;
@@ -131,6 +156,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
   ros::Time input_stamp_, input_receive_time_;
   std::uint32_t trigger_dangerous_ = 0;
   std::uint64_t inputs_ = 0, triggers_ = 0, transitions_ = 0, stale_events_ = 0;
+  Illumination illumination_ = Illumination::kUnknown;
+  std::uint64_t bad_illumination_ = 0;
 };
 
 }  // namespace icanc

@@ -41,5 +41,6 @@ std::vector<std::string> ParamReader::unknownKeys() const {
 void readParams(ParamReader& r, ObstacleDetectorParams& p) { visitParams(r, p); }
 void readParams(ParamReader& r, DangerParams& p) { visitParams(r, p); }
 void readParams(ParamReader& r, LightControllerParams& p) { visitParams(r, p); }
+void readParams(ParamReader& r, IlluminationParams& p) { visitParams(r, p); }
 
 }  // namespace icanc

@@ -109,5 +109,88 @@ TEST(LightController, ValidateNamesTheParameter) {
             std::string::npos);
 }
 
+// The illumination gate (issue 7): off by default, the paper's machine unchanged.
+LightControllerParams gatedParams() {
+  LightControllerParams p = paperParams();
+  p.stale_timeout_s = 0.3;
+  p.illumination_enabled = true;
+  p.illumination_stale_timeout_s = 1.0;
+  return p;
+}
+
+TEST(LightControllerIllumination, DisabledGateIgnoresDaylight) {
+  LightControllerParams p = gatedParams();
+  p.illumination_enabled = false;
+  LightController lc(p);
+  EXPECT_FALSE(lc.onIllumination(0.0, Illumination::kBright));
+  EXPECT_TRUE(lc.onInput(0.05, true));
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kDanger);
+}
+
+TEST(LightControllerIllumination, NoDangerLampInDaylightButAtNight) {
+  LightController lc(gatedParams());
+  lc.onIllumination(0.0, Illumination::kBright);
+  EXPECT_FALSE(lc.onInput(0.1, true));  // danger in daylight: no timer
+  EXPECT_FALSE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kDaylight);
+  EXPECT_STREQ(toString(lc.reason()), "daylight");
+  lc.onIllumination(0.15, Illumination::kDark);
+  EXPECT_EQ(lc.reason(), LightReason::kOff);
+  EXPECT_TRUE(lc.onInput(0.2, true));  // night: the paper's rule
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kDanger);
+}
+
+TEST(LightControllerIllumination, DaylightCancelsARunningTimer) {
+  LightController lc(gatedParams());
+  lc.onIllumination(0.0, Illumination::kDark);
+  ASSERT_TRUE(lc.onInput(0.1, true));
+  EXPECT_TRUE(lc.onIllumination(0.2, Illumination::kBright));
+  EXPECT_FALSE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kDaylight);
+  lc.onInput(0.3, false);
+  lc.onIllumination(0.35, Illumination::kDark);  // night again: the old timer does not come back
+  EXPECT_FALSE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kOff);
+}
+
+TEST(LightControllerIllumination, UnknownOrStaleIlluminationIsThePaper) {
+  LightController lc(gatedParams());
+  lc.onIllumination(0.0, Illumination::kUnknown);
+  EXPECT_TRUE(lc.onInput(0.1, true));
+  EXPECT_EQ(lc.reason(), LightReason::kDanger);
+
+  LightController stale(gatedParams());
+  stale.onIllumination(0.0, Illumination::kBright);
+  stale.onInput(0.9, true);
+  EXPECT_FALSE(stale.on());  // 0.9 s old: still daylight
+  for (double t = 1.0; t < 1.05; t += 0.01) stale.onInput(t, false);
+  EXPECT_EQ(stale.reason(), LightReason::kOff);  // report older than 1 s: gate open
+  EXPECT_TRUE(stale.onInput(1.1, true));
+  EXPECT_TRUE(stale.on());
+  EXPECT_EQ(stale.reason(), LightReason::kDanger);
+}
+
+TEST(LightControllerIllumination, WatchdogStillWinsInDaylight) {
+  LightController lc(gatedParams());
+  EXPECT_TRUE(lc.on());  // no input yet
+  lc.onIllumination(0.0, Illumination::kBright);
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kSensorStale);
+  lc.onInput(0.1, false);
+  EXPECT_EQ(lc.reason(), LightReason::kDaylight);
+  lc.onIllumination(0.3, Illumination::kBright);
+  EXPECT_TRUE(lc.tick(0.45));  // input 0.35 s ago, illumination fresh: sensor stale, lamp ON
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kSensorStale);
+}
+
+TEST(LightControllerIllumination, ValidateNamesTheTimeout) {
+  LightControllerParams p = gatedParams();
+  p.illumination_stale_timeout_s = 0.0;
+  EXPECT_NE(validate(p).find("illumination"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace icanc

@@ -30,6 +30,11 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_EQ(zebra.detector.cluster.min_points, 10);
   EXPECT_EQ(zebra.detector.cluster.max_points, 5000);
   EXPECT_FLOAT_EQ(zebra.detector.prep.roi_max.x(), 30.0f);
+  EXPECT_FALSE(zebra.light.illumination_enabled);  // the paper unless launched with a camera
+  EXPECT_DOUBLE_EQ(zebra.light.illumination_stale_timeout_s, 1.0);
+  EXPECT_DOUBLE_EQ(zebra.illumination.dark_at, 0.15);
+  EXPECT_DOUBLE_EQ(zebra.illumination.bright_at, 0.30);
+  EXPECT_DOUBLE_EQ(zebra.illumination.min_dwell_s, 2.0);
 
   const Profile carla = loadProfile(configDir() + "carla_model3.yaml");
   EXPECT_DOUBLE_EQ(carla.danger.half_width_m, 1.2);

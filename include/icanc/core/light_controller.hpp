@@ -9,10 +9,18 @@
 // Fail-safe: while no input has arrived for stale_timeout (or none has arrived yet) the lamp is ON
 // with reason kSensorStale; it returns to the timer's state when input resumes. Time going
 // backwards (a bag loop) resets the machine to "no input yet", i.e. ON until input resumes.
+//
+// Illumination gate (optional, off by default = the paper): while the camera's illumination
+// monitor reports a bright scene, danger does not switch the lamp on (lamp OFF, reason
+// kDaylight; a running timer is cancelled). An unknown or stale illumination (no report for
+// illumination_stale_timeout_s) leaves the paper's machine in charge. The watchdog still wins:
+// stale sensor input is lamp ON, whatever the daylight.
 #pragma once
 
 #include <cstdint>
 #include <string>
+
+#include "icanc/core/illumination.hpp"
 
 namespace icanc {
 
@@ -20,11 +28,13 @@ struct LightControllerParams {
   double tau_s = 3.0;            // timer length [s] (paper: 3; reference launch files: 2)
   double recheck_below_s = 1.0;  // danger resets the timer only when at most this is left [s]
   double stale_timeout_s = 0.3;  // watchdog: lamp on without input for this long; 0 disables
+  bool illumination_enabled = false;          // gate danger by the camera's illumination state
+  double illumination_stale_timeout_s = 1.0;  // illumination report older than this: unknown
 };
 
 std::string validate(const LightControllerParams& params);
 
-enum class LightReason : std::uint8_t { kOff = 0, kDanger = 1, kSensorStale = 2 };
+enum class LightReason : std::uint8_t { kOff = 0, kDanger = 1, kSensorStale = 2, kDaylight = 3 };
 const char* toString(LightReason reason);
 
 class LightController {
@@ -39,7 +49,11 @@ class LightController {
   // reason() changed.
   bool tick(double now);
 
-  bool on() const { return timer_running_ || stale_; }
+  // The illumination monitor reported `state` at `now` (ignored unless illumination_enabled).
+  // Returns true when on() or reason() changed.
+  bool onIllumination(double now, Illumination state);
+
+  bool on() const { return stale_ || (timer_running_ && !daylight_); }
   LightReason reason() const;
   double timeLeft(double now) const;
   // Time of the last input that started or reset the timer (valid after the first trigger).
@@ -50,6 +64,7 @@ class LightController {
 
  private:
   void reset();
+  void updateDaylight(double now);
 
   LightControllerParams params_;
   bool timer_running_ = false;
@@ -60,6 +75,9 @@ class LightController {
   bool has_now_ = false;
   double last_now_s_ = 0.0;
   bool stale_ = true;
+  Illumination illumination_ = Illumination::kUnknown;
+  double illumination_s_ = 0.0;
+  bool daylight_ = false;
 };
 
 }  // namespace icanc

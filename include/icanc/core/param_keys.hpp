@@ -7,6 +7,7 @@
 
 #include "icanc/core/danger.hpp"
 #include "icanc/core/ground_truth.hpp"
+#include "icanc/core/illumination.hpp"
 #include "icanc/core/light_controller.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 
@@ -60,6 +61,19 @@ template <class Reader>
 void visitParams(Reader& r, LightControllerParams& p) {
   r("tau_s", p.tau_s);
   r("recheck_below_s", p.recheck_below_s);
+  r("stale_timeout_s", p.stale_timeout_s);
+  r("illumination/enabled", p.illumination_enabled);
+  r("illumination/stale_timeout_s", p.illumination_stale_timeout_s);
+}
+
+// The IlluminationMonitor nodelet's section (illumination_monitor in config/*.yaml).
+template <class Reader>
+void visitParams(Reader& r, IlluminationParams& p) {
+  r("grid_step_px", p.grid_step_px);
+  r("percentile", p.percentile);
+  r("dark_at", p.dark_at);
+  r("bright_at", p.bright_at);
+  r("min_dwell_s", p.min_dwell_s);
   r("stale_timeout_s", p.stale_timeout_s);
 }
 

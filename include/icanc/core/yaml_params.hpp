@@ -5,6 +5,7 @@
 
 #include "icanc/core/danger.hpp"
 #include "icanc/core/ground_truth.hpp"
+#include "icanc/core/illumination.hpp"
 #include "icanc/core/light_controller.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 
@@ -16,9 +17,10 @@ struct Profile {
   LightControllerParams light;
   // The ground_truth section, with half_width_m and horizon_s from the danger section.
   CorridorParams corridor;
+  IlluminationParams illumination;  // illumination_monitor section (camera)
 };
 
-// Loads the obstacle_detector, danger_detector, light_controller and ground_truth sections of a profile and
+// Loads the obstacle_detector, danger_detector, light_controller, ground_truth and illumination_monitor sections of a profile and
 // validates them; throws std::runtime_error naming the file and the key or problem.
 Profile loadProfile(const std::string& path);
 

@@ -10,6 +10,7 @@
 #include <ros/node_handle.h>
 
 #include "icanc/core/danger.hpp"
+#include "icanc/core/illumination.hpp"
 #include "icanc/core/light_controller.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 
@@ -46,5 +47,6 @@ class ParamReader {
 void readParams(ParamReader& reader, ObstacleDetectorParams& params);
 void readParams(ParamReader& reader, DangerParams& params);
 void readParams(ParamReader& reader, LightControllerParams& params);
+void readParams(ParamReader& reader, IlluminationParams& params);
 
 }  // namespace icanc
