@@ -2,9 +2,13 @@
 // the dynamic_reconfigure C++ client. A pedestrian walks toward the vehicle at 1 m/s from 20 m
 // (walker_slow.yaml): safe with reaction_time 3 s; raising reaction_time_s makes it dangerous from
 // the next frame, and the lamp then runs the newly set tau_s. An invalid combination is refused
-// and the client is answered with the values in force; a detector tunable takes effect too.
+// and the client is answered with the values in force; a detector tunable takes effect too. The
+// rviz markers on /icanc/markers follow: the walker's box turns red, the lamp marker reports ON.
+#include <map>
+
 #include <dynamic_reconfigure/client.h>
 #include <gtest/gtest.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include "graph_fixture.hpp"
 #include "icanc/DangerDetectorConfig.h"
@@ -21,7 +25,20 @@ class LiveTuning : public ::testing::Test {
       : g_("walker_slow.yaml"),
         danger_("/icanc/danger_detector"),
         light_("/icanc/light_controller"),
-        detector_("/icanc/obstacle_detector") {}
+        detector_("/icanc/obstacle_detector") {
+    markers_sub_ = g_.nh().subscribe<visualization_msgs::MarkerArray>("/icanc/markers", 100,
+        [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(markers_mutex_);
+          for (const auto& k : m->markers) markers_[k.ns + "/" + std::to_string(k.id)] = k;
+        });
+  }
+
+  // The latest marker of namespace `ns` and id `id` (an empty marker when none arrived).
+  visualization_msgs::Marker marker(const std::string& ns, int id) {
+    std::lock_guard<std::mutex> lock(markers_mutex_);
+    const auto it = markers_.find(ns + "/" + std::to_string(id));
+    return it == markers_.end() ? visualization_msgs::Marker() : it->second;
+  }
 
   // Publishes the frame of scenario time t_ (stamped t0 + t_), advances t_ by one frame and
   // waits for its danger array.
@@ -55,6 +72,9 @@ class LiveTuning : public ::testing::Test {
   dynamic_reconfigure::Client<DangerDetectorConfig> danger_;
   dynamic_reconfigure::Client<LightControllerConfig> light_;
   dynamic_reconfigure::Client<ObstacleDetectorConfig> detector_;
+  ros::Subscriber markers_sub_;
+  std::mutex markers_mutex_;
+  std::map<std::string, visualization_msgs::Marker> markers_;
   ros::Time t0_ = ros::Time::now();
   double t_ = 0.0;
 };
@@ -82,6 +102,10 @@ TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
   EXPECT_EQ(a->num_dangerous, 0u);
   EXPECT_NEAR(a->obstacles[0].speed, 1.0, 0.3);
   const double distance = a->obstacles[0].closest_distance;
+  const int walker_id = static_cast<int>(a->obstacles[0].id);
+  EXPECT_TRUE(waitFor([&] { return marker("obstacles", walker_id).color.g > 0.5f; }, 3.0))
+      << "no green box for the safe walker on /icanc/markers";
+  EXPECT_DOUBLE_EQ(marker("sections", 0).points.at(0).y, 0.7) << "section boundary at +half_width";
 
   // An invalid combination (recheck_below_s > tau_s) is refused: old values in force and answered.
   light.recheck_below_s = 5.0;
@@ -107,6 +131,10 @@ TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
   EXPECT_TRUE(s->on);
   EXPECT_EQ(s->reason, LightState::REASON_DANGER);
   EXPECT_GT(s->time_left, 5.0) << "the timer should run the new tau_s (6 s), not 3 s";
+  EXPECT_TRUE(waitFor([&] { return marker("obstacles", walker_id).color.r > 0.9f; }, 3.0))
+      << "the dangerous walker's box is not red";
+  EXPECT_TRUE(waitFor([&] { return marker("lamp", 1).text.find("lamp ON: danger") == 0; }, 3.0))
+      << marker("lamp", 1).text;
 
   // Back to 3 s: safe again from the next frame.
   danger.reaction_time_s = 3.0;
