@@ -37,6 +37,8 @@ std::string validate(const DangerParams& params) {
     why << "danger.half_width_m must be > 0 (got " << params.half_width_m << ")";
   else if (!(params.reaction_time_s > 0.0))
     why << "danger.reaction_time_s must be > 0 (got " << params.reaction_time_s << ")";
+  else if (!(params.heading_window_deg > 0.0 && params.heading_window_deg <= 180.0))
+    why << "danger.heading_window_deg must be in (0, 180] (got " << params.heading_window_deg << ")";
   else if (params.model != DangerModel::kPaper && params.model != DangerModel::kPredictive)
     why << "danger.model must be \"paper\" or \"predictive\"";
   else if (!(params.margin_m >= 0.0))
@@ -77,13 +79,15 @@ double headingDeg(const Eigen::Vector3d& velocity) {
   return deg >= 360.0 ? 0.0 : deg;
 }
 
-bool isMovingTowardMe(double heading_deg, Section section) {
+bool isMovingTowardMe(double heading_deg, Section section, double window_deg) {
+  double centre = 0.0;  // the heading straight across or into the path
   switch (section) {
-    case Section::kRight: return heading_deg >= 15.0 && heading_deg <= 165.0;
-    case Section::kLeft: return heading_deg >= 195.0 && heading_deg <= 345.0;
-    case Section::kFront: return heading_deg >= 105.0 && heading_deg <= 255.0;
+    case Section::kRight: centre = 90.0; break;
+    case Section::kLeft: centre = 270.0; break;
+    case Section::kFront: centre = 180.0; break;
   }
-  return false;
+  const double half = 0.5 * window_deg;
+  return heading_deg >= centre - half && heading_deg <= centre + half;
 }
 
 double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max) {
@@ -114,7 +118,7 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.distance_m = closestPointDistance(object.aabb_min, object.aabb_max);
   a.heading_deg = headingDeg(object.velocity);
   a.threshold_m = a.speed_mps * params.reaction_time_s;
-  a.moving_toward = isMovingTowardMe(a.heading_deg, a.section);
+  a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
   if (params.model == DangerModel::kPredictive) {
     a.time_to_corridor_s = predictedTimeToCorridor(object, params);
     a.dangerous = a.time_to_corridor_s >= 0.0;

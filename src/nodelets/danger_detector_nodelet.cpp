@@ -1,6 +1,7 @@
 // icanc/DangerDetector: marks each obstacle with the danger model of ~model (icanc/danger.hpp:
 // "paper" = Listing 1, "predictive" = corridor prediction with per-track hysteresis) and
-// republishes the array with num_dangerous. Glue only.
+// republishes the array with num_dangerous, and rviz markers (boxes, labels, velocity, sections)
+// on `markers` while someone listens. Glue only.
 #include <memory>
 #include <mutex>
 
@@ -8,9 +9,12 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include "icanc/DangerDetectorConfig.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/danger.hpp"
 #include "icanc/ros/conversions.hpp"
+#include "icanc/ros/live_params.hpp"
+#include "icanc/ros/markers.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 #include "icanc/ros/zero_copy.hpp"
 
@@ -25,18 +29,32 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     readParams(reader, params_);
     bool trace = false;
     reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
-    if (!checkParams(getName(), reader, validate(params_))) return;
+    const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
+    reader.read("marker_lifetime_s", marker_style_.lifetime_s);
+    reader.read("marker_section_length_m", marker_style_.section_length_m);
+    const std::string why = validate(params_);
+    acceptReconfigureKeys<DangerDetectorConfig>(reader);
+    if (!checkParams(getName(), reader, why.empty() ? rate_problem : why)) return;
     hysteresis_.reset(new DangerHysteresis(params_));
 
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "danger"));
     diagnostics_->updater().add("danger detector", this, &DangerDetectorNodelet::diagnose);
+    live_.reset(new LiveParams<DangerDetectorConfig, DangerParams>(pnh, params_, getName()));
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles_danger", 5);
+    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
     sub_ = nh.subscribe("obstacles", 5, &DangerDetectorNodelet::onObstacles, this);
+    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     NODELET_INFO("DangerDetector: model %s, half_width %.2f m, reaction_time %.2f s",
                  toString(params_.model), params_.half_width_m, params_.reaction_time_s);
   }
 
   void onObstacles(const ObstacleArray::ConstPtr& msg) {
+    const ros::WallTime received = ros::WallTime::now();
+    input_->received(msg->header.stamp.toSec());
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (live_->take(params_)) hysteresis_->setParams(params_);
+    }
     auto out = boost::make_shared<ObstacleArray>(*msg);
     std::uint32_t dangerous = 0;
     const bool predictive = params_.model == DangerModel::kPredictive;
@@ -61,6 +79,8 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
       last_obstacles_ = out->obstacles.size();
     }
     pub_.publish(ObstacleArray::ConstPtr(out));
+    if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(dangerMarkers(*out, params_, marker_style_));
+    input_->processed((ros::WallTime::now() - received).toSec() * 1e3);
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -73,12 +93,18 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     stat.add("model", toString(params_.model));
     stat.add("half_width_m", params_.half_width_m);
     stat.add("reaction_time_s", params_.reaction_time_s);
+    live_->addTo(stat);
   }
 
   DangerParams params_;
   std::unique_ptr<DangerHysteresis> hysteresis_;
   std::unique_ptr<Diagnostics> diagnostics_;
+  std::unique_ptr<InputMonitor> input_;
+  double expected_rate_hz_ = 10.0;
+  std::unique_ptr<LiveParams<DangerDetectorConfig, DangerParams>> live_;
+  MarkerStyle marker_style_;
   ZeroCopyPublisher pub_;
+  ros::Publisher marker_pub_;
   ros::Subscriber sub_;
   std::mutex mutex_;
   std::uint64_t messages_ = 0, dangerous_total_ = 0;

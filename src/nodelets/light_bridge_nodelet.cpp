@@ -87,7 +87,9 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     reader.read("cmd_stale_timeout_s", params.cmd_stale_timeout_s);
     reader.read("frame_timeout_s", params.frame_timeout_s);
     reader.read("max_payload_bytes", params.max_payload_bytes);
+    const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     std::string why = validate(params);
+    if (why.empty()) why = rate_problem;
     if (why.empty() && port_name_.empty()) why = "port must be set (e.g. /dev/ttyACM0)";
     if (why.empty() && !SerialPort::baudSupported(baud_))
       why = "baud " + std::to_string(baud_) + " is not supported (9600 ... 921600; 57600 default)";
@@ -101,6 +103,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     link_pub_ = pnh.advertise<std_msgs::Bool>("link_up", 1, true);
     publishLink(false);
     sub_ = nh.subscribe("lamp_cmd", 10, &LightBridgeNodelet::onCommand, this, ros::TransportHints().tcpNoDelay());
+    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     running_ = true;
     thread_ = std::thread(&LightBridgeNodelet::ioLoop, this);
     NODELET_INFO("LightBridge: %s at %d baud, device topics '%s' (commands, %.1f Hz heartbeat) and "
@@ -111,6 +114,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
 
   void onCommand(const std_msgs::Bool::ConstPtr& msg) {
     const double t0 = steadyNow();
+    input_->received();
     std::lock_guard<std::mutex> lock(mutex_);
     ++lamp_cmds_;
     SessionOutput out;
@@ -120,6 +124,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
       latencies_ms_.push_back((steadyNow() - t0) * 1000.0);
       if (latencies_ms_.size() > 1000) latencies_ms_.pop_front();
     }
+    input_->processed((steadyNow() - t0) * 1000.0);
   }
 
   void ioLoop() {
@@ -335,6 +340,8 @@ class LightBridgeNodelet : public nodelet::Nodelet {
   double reconnect_period_s_ = 1.0;
 
   std::unique_ptr<Diagnostics> diagnostics_;
+  std::unique_ptr<InputMonitor> input_;  // lamp_cmd (the LightController publishes >= publish_rate_hz)
+  double expected_rate_hz_ = 10.0;
   ros::Publisher state_pub_, link_pub_;
   ros::Subscriber sub_;
   std::thread thread_;

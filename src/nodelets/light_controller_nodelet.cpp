@@ -1,6 +1,7 @@
 // icanc/LightController: the paper's timer state machine (icanc/light_controller.hpp) over the
 // DangerDetector's output. Publishes icanc/LightState and std_msgs/Bool on every change and at a
-// steady rate. Time is ROS time (sim time during replay).
+// steady rate, and the lamp as rviz markers on `markers` while someone listens. Time is ROS time
+// (sim time during replay).
 #include <memory>
 #include <mutex>
 
@@ -10,9 +11,12 @@
 #include <std_msgs/Bool.h>
 
 #include "icanc/IlluminationState.h"
+#include "icanc/LightControllerConfig.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/light_controller.hpp"
+#include "icanc/ros/live_params.hpp"
+#include "icanc/ros/markers.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 #include "icanc/ros/zero_copy.hpp"
 
@@ -30,10 +34,14 @@ class LightControllerNodelet : public nodelet::Nodelet {
     reader.read("tick_rate_hz", tick_rate_hz_);
     bool trace = false;
     reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
+    const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     std::string why = validate(params);
+    if (why.empty()) why = rate_problem;
     if (why.empty() && !(publish_rate_hz_ > 0.0)) why = "publish_rate_hz must be > 0";
     if (why.empty() && !(tick_rate_hz_ >= publish_rate_hz_))
       why = "tick_rate_hz must be >= publish_rate_hz";
+    reader.read("marker_lifetime_s", marker_style_.lifetime_s);
+    acceptReconfigureKeys<LightControllerConfig>(reader);
     if (!checkParams(getName(), reader, why)) return;
     controller_.reset(new LightController(params));
 
@@ -41,7 +49,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
     diagnostics_->updater().add("light controller", this, &LightControllerNodelet::diagnose);
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
+    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
+    live_.reset(new LiveParams<LightControllerConfig, LightControllerParams>(pnh, params, getName()));
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
+    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
     if (params.illumination_enabled) {  // camera illumination gate (IlluminationMonitor)
       illumination_sub_ = nh.subscribe("illumination", 5, &LightControllerNodelet::onIllumination, this);
@@ -53,9 +64,13 @@ class LightControllerNodelet : public nodelet::Nodelet {
   }
 
   void onDanger(const ObstacleArray::ConstPtr& msg) {
+    const ros::WallTime received = ros::WallTime::now();
+    input_->received(msg->header.stamp.toSec());
     std::lock_guard<std::mutex> lock(mutex_);
+    applyTunedParams();
     const ros::Time now = ros::Time::now();
     ++inputs_;
+    if (!msg->header.frame_id.empty()) marker_frame_ = msg->header.frame_id;
     input_stamp_ = msg->header.stamp;
     input_receive_time_ = msg->cloud_receive_time;
     if (controller_->onInput(now.toSec(), msg->num_dangerous > 0)) {
@@ -66,6 +81,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     }
     // Every input is answered (replay tools wait for it); changes are among them.
     publish(now, true);
+    input_->processed((ros::WallTime::now() - received).toSec() * 1e3);
   }
 
   void onIllumination(const IlluminationState::ConstPtr& msg) {
@@ -84,6 +100,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
 
   void onTick(const ros::TimerEvent&) {
     std::lock_guard<std::mutex> lock(mutex_);
+    applyTunedParams();
     const ros::Time now = ros::Time::now();
     const bool changed = controller_->tick(now.toSec());
     if (changed && controller_->reason() == LightReason::kSensorStale) {
@@ -93,6 +110,12 @@ class LightControllerNodelet : public nodelet::Nodelet {
     }
     if (changed || (now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_)
       publish(now, false);
+  }
+
+  // With mutex_ held: a dynamic_reconfigure change, from this input or tick on.
+  void applyTunedParams() {
+    LightControllerParams tuned;
+    if (live_->take(tuned)) controller_->setParams(tuned);
   }
 
   void publish(const ros::Time& now, bool answers_input) {
@@ -116,6 +139,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     last_publish_ = now;
     state_pub_.publish(LightState::ConstPtr(state));
     lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
+    if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -136,12 +160,19 @@ class LightControllerNodelet : public nodelet::Nodelet {
       stat.add("illumination", toString(illumination_));
       stat.add("invalid illumination messages", bad_illumination_);
     }
+    stat.add("tau_s", controller_->params().tau_s);
+    live_->addTo(stat);
   }
 
   std::unique_ptr<LightController> controller_;
   std::unique_ptr<Diagnostics> diagnostics_;
+  std::unique_ptr<InputMonitor> input_;
+  double expected_rate_hz_ = 10.0;
   ZeroCopyPublisher state_pub_;
-  ros::Publisher lamp_pub_;
+  std::unique_ptr<LiveParams<LightControllerConfig, LightControllerParams>> live_;
+  ros::Publisher lamp_pub_, marker_pub_;
+  MarkerStyle marker_style_;
+  std::string marker_frame_ = "base_link";  // the input's frame once it flows
   ros::Subscriber sub_;
   ros::Subscriber illumination_sub_;
   ros::Timer timer_;

@@ -5,7 +5,6 @@
 #include <mutex>
 
 #include <boost/make_shared.hpp>
-#include <diagnostic_updater/publisher.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <sensor_msgs/PointCloud2.h>
@@ -14,9 +13,11 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "icanc/ObstacleArray.h"
+#include "icanc/ObstacleDetectorConfig.h"
 #include "icanc/core/cloud_decode.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 #include "icanc/ros/conversions.hpp"
+#include "icanc/ros/live_params.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 #include "icanc/ros/zero_copy.hpp"
 
@@ -33,11 +34,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     readParams(reader, params);
     reader.read("target_frame", target_frame_);
     reader.read("max_points", max_points_);
-    reader.read("expected_rate_hz", expected_rate_hz_);
+    const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     reader.read("trace_publications", trace_unused_);  // read by ZeroCopyPublisher
     std::string why = validate(params);
     if (why.empty() && max_points_ <= 0) why = "max_points must be > 0";
-    if (why.empty() && expected_rate_hz_ <= 0.0) why = "expected_rate_hz must be > 0";
+    if (why.empty()) why = rate_problem;
+    acceptReconfigureKeys<ObstacleDetectorConfig>(reader);
     if (!checkParams(getName(), reader, why)) return;
 
     detector_.reset(new ObstacleDetector(params));
@@ -45,15 +47,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
 
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "lidar"));
-    min_rate_hz_ = expected_rate_hz_ * 0.8;  // warn when the input drops below 80 %
-    max_rate_hz_ = expected_rate_hz_ * 1.5;
-    rate_.reset(new diagnostic_updater::HeaderlessTopicDiagnostic(
-        "input cloud", diagnostics_->updater(),
-        diagnostic_updater::FrequencyStatusParam(&min_rate_hz_, &max_rate_hz_, 0.0, 10)));
     diagnostics_->updater().add("obstacle detector", this, &ObstacleDetectorNodelet::diagnose);
+    live_.reset(new LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>(pnh, params, getName()));
 
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles", 5);
     sub_ = nh.subscribe("points", 2, &ObstacleDetectorNodelet::onCloud, this);
+    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     NODELET_INFO("ObstacleDetector on %s -> %s (boxes in '%s')", sub_.getTopic().c_str(),
                  nh.resolveName("obstacles").c_str(),
                  target_frame_.empty() ? "<cloud frame>" : target_frame_.c_str());
@@ -85,8 +84,10 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     const ros::WallTime received = ros::WallTime::now();
     std::lock_guard<std::mutex> lock(mutex_);
-    rate_->tick();
+    input_->received(msg->header.stamp.toSec());
     ++received_;
+    ObstacleDetectorParams tuned;
+    if (live_->take(tuned)) detector_->setParams(tuned);
 
     Eigen::Affine3f to_target;
     const std::string frame = lookupTransform(msg->header, to_target);
@@ -95,6 +96,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
         decodeXYZ(toRawCloud(*msg), to_target, static_cast<std::size_t>(max_points_), cloud_, &stats);
     if (error != DecodeError::kNone) {
       ++invalid_[error];
+      input_->invalid();
       NODELET_ERROR_THROTTLE(1.0, "dropping cloud (frame '%s', %ux%u, %zu bytes): %s",
                              msg->header.frame_id.c_str(), msg->width, msg->height,
                              msg->data.size(), toString(error));
@@ -143,6 +145,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     last_times_ = times;
     last_obstacles_ = out->obstacles.size();
     last_processing_ms_ = out->processing_ms;
+    input_->processed(out->processing_ms);
     ++published_;
     pub_.publish(ObstacleArray::ConstPtr(out));
   }
@@ -177,13 +180,15 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("ground ms", last_times_.ground_ms);
     stat.add("cluster ms", last_times_.cluster_ms);
     stat.add("track ms", last_times_.track_ms);
+    live_->addTo(stat);
   }
 
   std::unique_ptr<ObstacleDetector> detector_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<Diagnostics> diagnostics_;
-  std::unique_ptr<diagnostic_updater::HeaderlessTopicDiagnostic> rate_;
+  std::unique_ptr<InputMonitor> input_;
+  std::unique_ptr<LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>> live_;
   ZeroCopyPublisher pub_;
   ros::Subscriber sub_;
 
@@ -191,7 +196,6 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   int max_points_ = 2000000;
   double expected_rate_hz_ = 10.0;
   bool trace_unused_ = false;
-  double min_rate_hz_ = 0.0, max_rate_hz_ = 0.0;
 
   std::mutex mutex_;  // the cloud callback and the diagnostics timer
   Cloud cloud_;

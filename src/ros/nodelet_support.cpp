@@ -1,6 +1,11 @@
 #include "icanc/ros/nodelet_support.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include <ros/console.h>
+
+#include "icanc/core/frame_gaps.hpp"
 
 namespace icanc {
 
@@ -21,6 +26,74 @@ Diagnostics::Diagnostics(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
     : updater_(new diagnostic_updater::Updater(nh, private_nh, node_name)) {
   updater_->setHardwareID(hardware_id);
   timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_->force_update(); });
+}
+
+std::string readExpectedRate(ParamReader& reader, double& expected_rate_hz) {
+  reader.read("expected_rate_hz", expected_rate_hz);
+  return expected_rate_hz > 0.0 ? "" : "expected_rate_hz must be > 0";
+}
+
+InputMonitor::InputMonitor(diagnostic_updater::Updater& updater, const std::string& topic,
+                           double expected_rate_hz)
+    : topic_(topic),
+      expected_rate_hz_(expected_rate_hz),
+      min_rate_hz_(0.8 * expected_rate_hz),
+      max_rate_hz_(std::numeric_limits<double>::infinity()),
+      rate_("input", updater, diagnostic_updater::FrequencyStatusParam(&min_rate_hz_, &max_rate_hz_, 0.0, 10)),
+      frames_("frames", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { diagnose(s); }) {
+  rate_.addTask(&frames_);
+}
+
+void InputMonitor::received() {
+  rate_.tick();
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++received_;
+}
+
+void InputMonitor::received(double stamp_s) {
+  rate_.tick();
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++received_;
+  if (has_stamp_) dropped_ += missedFrames(last_stamp_s_, stamp_s, expected_rate_hz_);
+  has_stamp_ = true;
+  last_stamp_s_ = stamp_s;
+}
+
+void InputMonitor::processed(double ms) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++processed_;
+  last_ms_ = ms;
+  sum_ms_ += ms;
+  max_ms_ = std::max(max_ms_, ms);
+  ++window_count_;
+}
+
+void InputMonitor::invalid() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++invalid_;
+}
+
+void InputMonitor::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (invalid_ > reported_invalid_)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid frames rejected");
+  else if (dropped_ > reported_dropped_)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames dropped (stamp gaps)");
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "");
+  reported_invalid_ = invalid_;
+  reported_dropped_ = dropped_;
+  stat.add("topic", topic_);
+  stat.add("expected rate [Hz]", expected_rate_hz_);
+  stat.add("frames received", received_);
+  stat.add("frames processed", processed_);
+  stat.add("invalid frames", invalid_);
+  stat.add("dropped frames", dropped_);
+  stat.add("processing ms (last)", last_ms_);
+  stat.add("processing ms (mean since last report)", window_count_ ? sum_ms_ / window_count_ : 0.0);
+  stat.add("processing ms (max since last report)", max_ms_);
+  sum_ms_ = max_ms_ = 0.0;
+  window_count_ = 0;
 }
 
 }  // namespace icanc

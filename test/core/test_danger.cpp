@@ -55,6 +55,38 @@ TEST(HeadingDeg, EqualsThePapersAngleBetweenVectorsFormula) {
   }
 }
 
+TEST(IsMovingTowardMe, NarrowerWindowKeepsTheCentres) {
+  // 90 degree windows (DangerParams::heading_window_deg): right [45, 135], left [225, 315],
+  // front [135, 225].
+  EXPECT_FALSE(isMovingTowardMe(44.999, Section::kRight, 90.0));
+  EXPECT_TRUE(isMovingTowardMe(45.0, Section::kRight, 90.0));
+  EXPECT_TRUE(isMovingTowardMe(135.0, Section::kRight, 90.0));
+  EXPECT_FALSE(isMovingTowardMe(135.001, Section::kRight, 90.0));
+  EXPECT_FALSE(isMovingTowardMe(224.999, Section::kLeft, 90.0));
+  EXPECT_TRUE(isMovingTowardMe(315.0, Section::kLeft, 90.0));
+  EXPECT_FALSE(isMovingTowardMe(134.999, Section::kFront, 90.0));
+  EXPECT_TRUE(isMovingTowardMe(225.0, Section::kFront, 90.0));
+  EXPECT_FALSE(isMovingTowardMe(225.001, Section::kFront, 90.0));
+}
+
+TEST(AssessDanger, HeadingWindowParameterIsUsedAndValidated) {
+  ObjectKinematics o;  // 2 m ahead, moving toward at 1 m/s but 60 degrees off the axis
+  o.center = Eigen::Vector3d(2.25, 0.0, 0.0);
+  o.aabb_min = Eigen::Vector3d(2.0, -0.25, 0.0);
+  o.aabb_max = Eigen::Vector3d(2.5, 0.25, 1.7);
+  o.velocity = Eigen::Vector3d(std::cos(M_PI * 240.0 / 180.0), std::sin(M_PI * 240.0 / 180.0), 0.0);
+  DangerParams p;
+  EXPECT_TRUE(assessDanger(o, p).dangerous) << "heading 240 is inside the paper's [105, 255]";
+  p.heading_window_deg = 90.0;
+  EXPECT_FALSE(assessDanger(o, p).moving_toward) << "and outside [135, 225]";
+  EXPECT_FALSE(assessDanger(o, p).dangerous);
+  EXPECT_EQ(validate(p), "");
+  p.heading_window_deg = 0.0;
+  EXPECT_NE(validate(p).find("heading_window_deg"), std::string::npos);
+  p.heading_window_deg = 181.0;
+  EXPECT_NE(validate(p).find("heading_window_deg"), std::string::npos);
+}
+
 TEST(IsMovingTowardMe, ThreeWindowsAtTheirEdges) {
   // Right section: [15, 165].
   EXPECT_FALSE(isMovingTowardMe(14.999, Section::kRight));

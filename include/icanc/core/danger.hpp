@@ -24,9 +24,13 @@ const char* toString(DangerModel model);
 // "paper" / "predictive" -> the model; anything else -> kInvalid.
 DangerModel parseDangerModel(const std::string& name);
 
+// The width of isMovingTowardMe's heading windows in the current design [deg].
+constexpr double kPaperHeadingWindowDeg = 150.0;
+
 struct DangerParams {
   double half_width_m = 0.7;     // w: path half-width (paper: 0.7 Zebra, 1.2 CARLA Model 3)
   double reaction_time_s = 3.0;  // t: reaction time allowed (paper: 3 Zebra, 2 CARLA)
+  double heading_window_deg = kPaperHeadingWindowDeg;  // isMovingTowardMe's windows (0, 180]
   DangerModel model = DangerModel::kPaper;
 
   // kPredictive only. The corridor has the ground truth's meaning (CorridorParams):
@@ -62,8 +66,9 @@ double getSpeedOfObject(const Eigen::Vector3d& velocity);
 double headingDeg(const Eigen::Vector3d& velocity);
 
 // isMovingTowardMe with the current design's 150 degree windows, edges included:
-// right section [15, 165], left section [195, 345], front section [105, 255].
-bool isMovingTowardMe(double heading_deg, Section section);
+// right section [15, 165], left section [195, 345], front section [105, 255]. Other widths
+// (DangerParams::heading_window_deg, (0, 180]) keep the centres 90, 270 and 180.
+bool isMovingTowardMe(double heading_deg, Section section, double window_deg = kPaperHeadingWindowDeg);
 
 // Distance from the vehicle origin to the closest point of an axis-aligned box: the origin
 // clamped into the box per axis (x, y and z, as the paper's reference code), then its norm.
@@ -108,6 +113,8 @@ class DangerHysteresis {
  public:
   explicit DangerHysteresis(const DangerParams& params) : params_(params) {}
   bool update(std::uint32_t id, const DangerAssessment& raw, double now_s);
+  // Takes effect on the next update(); the per-track states are kept.
+  void setParams(const DangerParams& params) { params_ = params; }
   std::size_t size() const { return tracks_.size(); }
 
  private:

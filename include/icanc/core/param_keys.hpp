@@ -42,6 +42,7 @@ template <class Reader>
 void visitParams(Reader& r, DangerParams& p) {
   r("half_width_m", p.half_width_m);
   r("reaction_time_s", p.reaction_time_s);
+  r("heading_window_deg", p.heading_window_deg);
   std::string model = toString(p.model);  // "paper" | "predictive"; validate() rejects others
   r("model", model);
   p.model = parseDangerModel(model);

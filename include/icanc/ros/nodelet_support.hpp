@@ -1,11 +1,15 @@
 // What every icanc nodelet does the same way: finish reading parameters (report list errors,
-// unknown keys and invalid values) and run its diagnostic_updater on a timer.
+// unknown keys and invalid values), run its diagnostic_updater on a timer and report its main
+// input (rate, processing time, invalid and dropped frames) in one status.
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/publisher.h>
 #include <ros/node_handle.h>
 #include <ros/timer.h>
 
@@ -27,6 +31,41 @@ class Diagnostics {
  private:
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::Timer timer_;
+};
+
+// Reads ~expected_rate_hz (the input rate the nodelet expects, default 10 Hz); "" or a problem.
+std::string readExpectedRate(ParamReader& reader, double& expected_rate_hz);
+
+// The status "<node>: input topic status" of a nodelet's main input: its rate
+// (diagnostic_updater::FrequencyStatus over 10 updates, WARN "Frequency too low." below 80 % of
+// expected_rate_hz, no upper bound: replays may run faster), processing time (last, mean and max
+// since the previous report), and invalid and dropped frames (WARN while they grow). Dropped
+// frames are missing stamps at the expected rate (icanc/core/frame_gaps.hpp). Thread-safe.
+class InputMonitor {
+ public:
+  InputMonitor(diagnostic_updater::Updater& updater, const std::string& topic, double expected_rate_hz);
+
+  void received();                // a message without a stamp arrived
+  void received(double stamp_s);  // a stamped message arrived (counts stamp gaps as dropped)
+  void processed(double ms);      // it was processed in `ms` wall milliseconds
+  void invalid();                 // it was rejected as invalid
+
+ private:
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::string topic_;
+  double expected_rate_hz_;
+  double min_rate_hz_, max_rate_hz_;
+  diagnostic_updater::HeaderlessTopicDiagnostic rate_;
+  diagnostic_updater::FunctionDiagnosticTask frames_;
+
+  std::mutex mutex_;
+  std::uint64_t received_ = 0, processed_ = 0, invalid_ = 0, dropped_ = 0;
+  std::uint64_t reported_invalid_ = 0, reported_dropped_ = 0;
+  bool has_stamp_ = false;
+  double last_stamp_s_ = 0.0;
+  double last_ms_ = 0.0, sum_ms_ = 0.0, max_ms_ = 0.0;
+  std::uint64_t window_count_ = 0;
 };
 
 }  // namespace icanc

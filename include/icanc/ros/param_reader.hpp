@@ -33,6 +33,9 @@ class ParamReader {
     read(key, value);
   }
 
+  // Marks `key` as known without reading it (a key another component owns).
+  void accept(const std::string& key) { keys_.insert(key); }
+
   // Problems met while reading (wrong list length), "" when none.
   const std::string& error() const { return error_; }
   // Keys present under the private namespace that nothing read.
