@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "icanc/core/cloud_decode.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 #include "icanc/core/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
@@ -293,6 +294,45 @@ TEST(FastDetector, ObstacleDetectorRunsEitherMethodAndTracks) {
   params.method = DetectorMethod::kClassic;
   fast.setParams(params);
   EXPECT_EQ(fast.fast(), nullptr);
+}
+
+// The nodelet's fused path: the fast detector reading a PointCloud2-shaped buffer in its first
+// pass gives what decoding into a cloud and then detecting gives.
+TEST(FastDetector, DetectingStraightFromTheMessageMatchesDecodingFirst) {
+  const Cloud organized = renderStreet();  // 64 rows with NaN returns, x y z + padding
+  RawCloud raw;
+  raw.width = organized.width;
+  raw.height = organized.height;
+  raw.point_step = sizeof(Point);
+  raw.row_step = raw.width * raw.point_step;
+  raw.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
+  raw.data = reinterpret_cast<const std::uint8_t*>(organized.points.data());
+  raw.data_size = organized.size() * sizeof(Point);
+  Eigen::Affine3f to_base = Eigen::Affine3f::Identity();
+  to_base.translation() = Eigen::Vector3f(1.0f, 0.0f, 1.73f);  // sensor -> base_link
+
+  ObstacleDetectorParams params;
+  params.prep = wideRoi();
+  params.method = DetectorMethod::kFast;
+  ObstacleDetector decoded_first(params), fused(params);
+  Cloud cloud;
+  DecodeStats decode_stats, fused_stats;
+  ASSERT_EQ(decodeXYZ(raw, to_base, 1000000, cloud, &decode_stats), DecodeError::kNone);
+  decoded_first.process(0.0, cloud);
+  DecodePlan plan;
+  ASSERT_EQ(planDecode(raw, 1000000, plan), DecodeError::kNone);
+  fused.processFrom(0.0, [&](auto&& sink) { fused_stats = forEachXYZ(raw, plan, to_base, sink); });
+
+  EXPECT_EQ(fused_stats.kept, decode_stats.kept);
+  EXPECT_EQ(fused_stats.dropped_nonfinite, decode_stats.dropped_nonfinite);
+  EXPECT_GT(fused_stats.dropped_nonfinite, 0u);  // the sky
+  ASSERT_EQ(fused.detections().size(), 2u);
+  ASSERT_EQ(decoded_first.detections().size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(fused.detections()[i].num_points, decoded_first.detections()[i].num_points);
+    EXPECT_TRUE(fused.detections()[i].center.isApprox(decoded_first.detections()[i].center, 1e-6f));
+  }
+  EXPECT_NEAR(fused.detections()[0].center.x(), 15.0f + 1.0f, 0.6f);  // in base_link
 }
 
 TEST(FastDetector, ProfileSelectsTheMethod) {
