@@ -9,24 +9,35 @@
 namespace icanc {
 
 Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices) {
-  Box3D box;
   const std::size_t n = indices ? indices->size() : cloud.size();
-  if (n == 0) return box;
-
+  if (n == 0) return Box3D();
   const float inf = std::numeric_limits<float>::infinity();
-  Eigen::Vector3f lo(inf, inf, inf), hi(-inf, -inf, -inf);
+  float zmin = inf, zmax = -inf;
   std::vector<cv::Point2f> xy;
   xy.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {
     const Point& p = cloud[indices ? static_cast<std::size_t>((*indices)[k]) : k];
-    const Eigen::Vector3f v(p.x, p.y, p.z);
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
+    zmin = std::min(zmin, p.z);
+    zmax = std::max(zmax, p.z);
     xy.emplace_back(p.x, p.y);
   }
-  box.min = lo;
-  box.max = hi;
-  box.num_points = static_cast<int>(n);
+  return fitBoxFootprint(xy, zmin, zmax, static_cast<int>(n));
+}
+
+Box3D fitBoxFootprint(const std::vector<cv::Point2f>& xy, float zmin, float zmax, int num_points) {
+  Box3D box;
+  if (xy.empty()) return box;
+  const float inf = std::numeric_limits<float>::infinity();
+  float xmin = inf, ymin = inf, xmax = -inf, ymax = -inf;
+  for (const cv::Point2f& p : xy) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  box.min = Eigen::Vector3f(xmin, ymin, zmin);
+  box.max = Eigen::Vector3f(xmax, ymax, zmax);
+  box.num_points = num_points;
 
   // Oriented box: OpenCV's minimum-area rectangle of the footprint.
   const cv::RotatedRect rect = cv::minAreaRect(xy);
@@ -40,8 +51,8 @@ Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices) {
   while (yaw > static_cast<float>(M_PI / 2.0)) yaw -= static_cast<float>(M_PI);
   while (yaw <= -static_cast<float>(M_PI / 2.0)) yaw += static_cast<float>(M_PI);
 
-  box.center = Eigen::Vector3f(rect.center.x, rect.center.y, 0.5f * (lo.z() + hi.z()));
-  box.size = Eigen::Vector3f(length, width, hi.z() - lo.z());
+  box.center = Eigen::Vector3f(rect.center.x, rect.center.y, 0.5f * (zmin + zmax));
+  box.size = Eigen::Vector3f(length, width, zmax - zmin);
   box.yaw = yaw;
   return box;
 }

@@ -45,146 +45,80 @@ std::uint64_t coordinateSize(std::uint8_t datatype) {
   return 0;
 }
 
-inline float readFloat32(const std::uint8_t* p) {
-  float v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-
-inline float readCoordinate(const std::uint8_t* p, bool is_double) {
-  if (is_double) {
-    double v;
-    std::memcpy(&v, p, sizeof(v));
-    // A double outside float's range (or NaN) has no float value: the cast would be undefined,
-    // so it becomes +inf and the point is dropped as non-finite.
-    return std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max())
-               ? static_cast<float>(v)
-               : std::numeric_limits<float>::infinity();
-  }
-  return readFloat32(p);
-}
-
-// Shared by both paths: drops non-finite and (0, 0, 0) points, transforms and writes the rest.
-struct PointSink {
-  Eigen::Matrix3f rotation;
-  Eigen::Vector3f translation;
-  Point* dst;
-  std::size_t kept = 0;
-  std::size_t nonfinite = 0;
-  std::size_t zero = 0;
-
-  inline void push(float x, float y, float z) {
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      ++nonfinite;
-      return;
-    }
-    if (x == 0.0f && y == 0.0f && z == 0.0f) {  // sensor frame: "no return"
-      ++zero;
-      return;
-    }
-    const Eigen::Vector3f v = rotation * Eigen::Vector3f(x, y, z) + translation;
-    // A finite coordinate near float's maximum can overflow to inf in the transform (found by
-    // test/fuzz/cloud_decode_fuzzer.cpp): such a point is as unusable as a non-finite one.
-    if (!v.allFinite()) {
-      ++nonfinite;
-      return;
-    }
-    Point& out = dst[kept++];
-    out.x = v.x();
-    out.y = v.y();
-    out.z = v.z();
-  }
-};
-
 }  // namespace
 
-DecodeError decodeXYZ(const RawCloud& in, const Eigen::Affine3f& transform, std::size_t max_points,
-                      Cloud& out, DecodeStats* stats) {
-  // On an error the output is left empty (capacity kept) and the stats untouched.
-  const auto fail = [&out](DecodeError error) {
-    out.clear();
-    return error;
-  };
-
+DecodeError planDecode(const RawCloud& in, std::size_t max_points, DecodePlan& plan) {
   // Every size below is computed in 64 bits from 32-bit inputs, so no product can overflow
   // (2^32 * 2^32 fits in 2^64), and every comparison happens before any read.
   const std::uint64_t width = in.width;
   const std::uint64_t height = in.height;
   const std::uint64_t total = width * height;
-  if (total == 0) return fail(DecodeError::kEmpty);
-  if (total > static_cast<std::uint64_t>(max_points)) return fail(DecodeError::kTooManyPoints);
-  if (in.is_bigendian != hostIsBigEndian()) return fail(DecodeError::kBigEndian);
+  if (total == 0) return DecodeError::kEmpty;
+  if (total > static_cast<std::uint64_t>(max_points)) return DecodeError::kTooManyPoints;
+  if (in.is_bigendian != hostIsBigEndian()) return DecodeError::kBigEndian;
 
   const FieldDesc* fx = findField(in.fields, "x");
   const FieldDesc* fy = findField(in.fields, "y");
   const FieldDesc* fz = findField(in.fields, "z");
-  if (!fx || !fy || !fz) return fail(DecodeError::kMissingXYZ);
+  if (!fx || !fy || !fz) return DecodeError::kMissingXYZ;
 
   const FieldDesc* xyz[3] = {fx, fy, fz};
   std::uint64_t sizes[3];
   for (int i = 0; i < 3; ++i) {
     sizes[i] = coordinateSize(xyz[i]->datatype);
-    if (sizes[i] == 0 || xyz[i]->count != 1) return fail(DecodeError::kUnsupportedFieldType);
+    if (sizes[i] == 0 || xyz[i]->count != 1) return DecodeError::kUnsupportedFieldType;
   }
 
   const std::uint64_t point_step = in.point_step;
   const std::uint64_t row_step = in.row_step;
-  if (point_step == 0) return fail(DecodeError::kInconsistentLayout);
+  if (point_step == 0) return DecodeError::kInconsistentLayout;
   for (int i = 0; i < 3; ++i) {
     if (static_cast<std::uint64_t>(xyz[i]->offset) + sizes[i] > point_step) {
-      return fail(DecodeError::kInconsistentLayout);
+      return DecodeError::kInconsistentLayout;
     }
   }
-  if (row_step < width * point_step) return fail(DecodeError::kInconsistentLayout);
+  if (row_step < width * point_step) return DecodeError::kInconsistentLayout;
   if (in.data == nullptr || static_cast<std::uint64_t>(in.data_size) < row_step * height) {
-    return fail(DecodeError::kTruncatedData);
+    return DecodeError::kTruncatedData;
   }
   // From here on: total <= max_points, and every byte read lies below row_step * height.
+  plan.ox = fx->offset;
+  plan.oy = fy->offset;
+  plan.oz = fz->offset;
+  plan.dx = sizes[0] == 8;
+  plan.dy = sizes[1] == 8;
+  plan.dz = sizes[2] == 8;
+  plan.point_step = static_cast<std::size_t>(point_step);
+  plan.row_step = static_cast<std::size_t>(row_step);
+  plan.width = static_cast<std::size_t>(width);
+  plan.height = static_cast<std::size_t>(height);
+  return DecodeError::kNone;
+}
 
-  const std::size_t n = static_cast<std::size_t>(total);
-  if (out.points.size() < n) out.points.resize(n);  // grows only: reuses capacity and contents
-
-  PointSink sink;
-  sink.rotation = transform.linear();
-  sink.translation = transform.translation();
-  sink.dst = out.points.data();
-
-  const std::size_t ox = fx->offset, oy = fy->offset, oz = fz->offset;
-  const std::size_t pstep = static_cast<std::size_t>(point_step);
-  const std::size_t rstep = static_cast<std::size_t>(row_step);
-  const std::size_t w = static_cast<std::size_t>(width);
-  const std::size_t h = static_cast<std::size_t>(height);
-
-  if (sizes[0] == 4 && sizes[1] == 4 && sizes[2] == 4) {
-    // Common layout: three float32 coordinates.
-    for (std::size_t r = 0; r < h; ++r) {
-      const std::uint8_t* p = in.data + r * rstep;
-      for (std::size_t c = 0; c < w; ++c, p += pstep) {
-        sink.push(readFloat32(p + ox), readFloat32(p + oy), readFloat32(p + oz));
-      }
-    }
-  } else {
-    const bool dx = sizes[0] == 8, dy = sizes[1] == 8, dz = sizes[2] == 8;
-    for (std::size_t r = 0; r < h; ++r) {
-      const std::uint8_t* p = in.data + r * rstep;
-      for (std::size_t c = 0; c < w; ++c, p += pstep) {
-        sink.push(readCoordinate(p + ox, dx), readCoordinate(p + oy, dy),
-                  readCoordinate(p + oz, dz));
-      }
-    }
+DecodeError decodeXYZ(const RawCloud& in, const Eigen::Affine3f& transform, std::size_t max_points,
+                      Cloud& out, DecodeStats* stats) {
+  // On an error the output is left empty (capacity kept) and the stats untouched.
+  DecodePlan plan;
+  const DecodeError error = planDecode(in, max_points, plan);
+  if (error != DecodeError::kNone) {
+    out.clear();
+    return error;
   }
-
-  out.points.resize(sink.kept);  // shrinking never reallocates
-  out.width = static_cast<std::uint32_t>(sink.kept);
+  const std::size_t n = plan.width * plan.height;
+  if (out.points.size() < n) out.points.resize(n);  // grows only: reuses capacity and contents
+  Point* dst = out.points.data();
+  std::size_t kept = 0;
+  const DecodeStats s = forEachXYZ(in, plan, transform, [dst, &kept](float x, float y, float z) {
+    Point& p = dst[kept++];
+    p.x = x;
+    p.y = y;
+    p.z = z;
+  });
+  out.points.resize(kept);  // shrinking never reallocates
+  out.width = static_cast<std::uint32_t>(kept);
   out.height = 1;
   out.is_dense = true;
-
-  if (stats) {
-    stats->total = n;
-    stats->kept = sink.kept;
-    stats->dropped_nonfinite = sink.nonfinite;
-    stats->dropped_zero = sink.zero;
-  }
+  if (stats) *stats = s;
   return DecodeError::kNone;
 }
 

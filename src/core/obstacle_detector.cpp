@@ -4,20 +4,47 @@
 
 namespace icanc {
 
+const char* toString(DetectorMethod method) {
+  switch (method) {
+    case DetectorMethod::kClassic: return "classic";
+    case DetectorMethod::kFast: return "fast";
+    case DetectorMethod::kInvalid: break;
+  }
+  return "invalid";
+}
+
+DetectorMethod parseDetectorMethod(const std::string& name) {
+  if (name == "classic") return DetectorMethod::kClassic;
+  if (name == "fast") return DetectorMethod::kFast;
+  return DetectorMethod::kInvalid;
+}
+
 std::string validate(const ObstacleDetectorParams& params) {
+  if (params.method == DetectorMethod::kInvalid)
+    return "method must be \"classic\" or \"fast\"";
   for (const std::string& why : {validate(params.prep), validate(params.ground),
-                                 validate(params.cluster), validate(params.tracker)}) {
+                                 validate(params.cluster), validate(params.tracker),
+                                 validate(params.fast)}) {
     if (!why.empty()) return why;
+  }
+  if (params.method == DetectorMethod::kFast) {
+    const Eigen::Vector3f extent = params.prep.roi_max - params.prep.roi_min;
+    if (extent.x() / params.fast.cell_m * (extent.y() / params.fast.cell_m) > 64e6f)
+      return "fast.cell_m is too small for the ROI (more than 64 million grid cells)";
   }
   return "";
 }
 
 ObstacleDetector::ObstacleDetector(const ObstacleDetectorParams& params)
-    : params_(params), tracker_(params.tracker) {}
+    : params_(params), tracker_(params.tracker) {
+  setParams(params);
+}
 
 void ObstacleDetector::setParams(const ObstacleDetectorParams& params) {
   params_ = params;
   tracker_.setParams(params.tracker);
+  fast_.reset(params.method == DetectorMethod::kFast ? new FastDetector(params.prep, params.fast)
+                                                     : nullptr);
 }
 
 MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const Cloud& cloud,
@@ -27,6 +54,16 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
   const auto ms = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
   };
+  if (fast_) {
+    FastStageTimes fast_times;
+    fast_->detect(cloud, detections_, &fast_times);
+    if (times) {
+      times->prep_ms = fast_times.prep_ms;
+      times->ground_ms = fast_times.ground_ms;
+      times->cluster_ms = fast_times.cluster_ms;
+    }
+    return track(stamp_s, times);
+  }
   const auto t0 = Clock::now();
   prepareCloud(cloud, params_.prep, prepared_);
   const auto t1 = Clock::now();
@@ -34,14 +71,18 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
   const auto t2 = Clock::now();
   detections_ = clusterBoxes(nonground_, params_.cluster);
   const auto t3 = Clock::now();
-  const auto result = tracker_.update(stamp_s, detections_);
-  const auto t4 = Clock::now();
   if (times) {
     times->prep_ms = ms(t0, t1);
     times->ground_ms = ms(t1, t2);
     times->cluster_ms = ms(t2, t3);
-    times->track_ms = ms(t3, t4);
   }
+  return track(stamp_s, times);
+}
+
+MultiObjectTracker::UpdateResult ObstacleDetector::track(double stamp_s, StageTimes* times) {
+  const double t0 = fastNowMs();
+  const auto result = tracker_.update(stamp_s, detections_);
+  if (times) times->track_ms = fastNowMs() - t0;
   return result;
 }
 

@@ -102,8 +102,8 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                               params_.iou_weight * (1.0 - bevIoU(predicted, detection));
     }
   }
-  solveAssignment(cost_.topLeftCorner(num_tracks, num_detections), assignment_workspace_,
-                  track_to_detection_);
+  solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
+                              assignment_workspace_, track_to_detection_);
 
   // Update matched tracks, age every track, drop the ones missed too often.
   const double measurement_variance = params_.measurement_std_m * params_.measurement_std_m;

@@ -91,9 +91,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
 
     Eigen::Affine3f to_target;
     const std::string frame = lookupTransform(msg->header, to_target);
+    // The fast detector reads the message in its own first pass (forEachXYZ); the classic one
+    // gets a decoded cloud. The layout checks are the same either way.
+    const RawCloud raw = toRawCloud(*msg);
+    DecodePlan plan;
     DecodeStats stats;
-    const DecodeError error =
-        decodeXYZ(toRawCloud(*msg), to_target, static_cast<std::size_t>(max_points_), cloud_, &stats);
+    const DecodeError error = planDecode(raw, static_cast<std::size_t>(max_points_), plan);
     if (error != DecodeError::kNone) {
       ++invalid_[error];
       input_->invalid();
@@ -102,7 +105,6 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
                              msg->data.size(), toString(error));
       return;  // not valid input: the light controller's watchdog sees the gap
     }
-    dropped_points_ += stats.dropped_nonfinite + stats.dropped_zero;
 
     // A stamp equal to the previous frame's (duplicate message, stuck driver clock): processed
     // with dt = 0 (the Kalman prediction is the identity), warned about and counted.
@@ -123,7 +125,16 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     last_frame_ = frame;
 
     StageTimes times;
-    const auto result = detector_->process(msg->header.stamp.toSec(), cloud_, &times);
+    const double stamp_s = msg->header.stamp.toSec();
+    MultiObjectTracker::UpdateResult result;
+    if (detector_->fast()) {
+      result = detector_->processFrom(
+          stamp_s, [&](auto&& sink) { stats = forEachXYZ(raw, plan, to_target, sink); }, &times);
+    } else {
+      decodeXYZ(raw, to_target, static_cast<std::size_t>(max_points_), cloud_, &stats);
+      result = detector_->process(stamp_s, cloud_, &times);
+    }
+    dropped_points_ += stats.dropped_nonfinite + stats.dropped_zero;
     if (result == MultiObjectTracker::UpdateResult::kResetTimeBackwards) {
       ++time_resets_;
       NODELET_WARN_THROTTLE(1.0, "cloud stamp went backwards (bag loop?): tracker reset");

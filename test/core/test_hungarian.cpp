@@ -212,6 +212,8 @@ void randomAgainstBruteForce(unsigned seed, int int_max, double scale, double fo
   std::bernoulli_distribution forbid(forbidden);
   AssignmentWorkspace ws;  // reused across sizes, as the tracker does
   std::vector<int> reused;
+  ComponentWorkspace components;
+  std::vector<int> by_components;
   for (int trial = 0; trial < trials; ++trial) {
     const int n = size(rng), m = size(rng);
     Eigen::MatrixXd c(n, m);
@@ -232,10 +234,22 @@ void randomAgainstBruteForce(unsigned seed, int int_max, double scale, double fo
 
     solveAssignment(c, ws, reused);
     ASSERT_EQ(reused, a);
+
+    // Per connected component of allowed pairs: the same optimum (ties may pick another one).
+    solveAssignmentByComponents(c, components, by_components);
+    expectValid(c, by_components);
+    ASSERT_EQ(static_cast<int>(std::count_if(by_components.begin(), by_components.end(),
+                                             [](int j) { return j >= 0; })),
+              best.first);
+    ASSERT_NEAR(totalCost(c, by_components), best.second, 1e-6 * scale);
   }
 }
 
 TEST(Hungarian, RandomRealCostsMatchBruteForce) { randomAgainstBruteForce(42, 0, 1.0, 0.25, 400); }
+// Mostly forbidden: many small components, as gating makes them in the tracker.
+TEST(Hungarian, SparseRandomCostsMatchBruteForceByComponents) {
+  randomAgainstBruteForce(11, 0, 1.0, 0.75, 1000);
+}
 TEST(Hungarian, RandomIntegerCostsWithTiesMatchBruteForce) {
   randomAgainstBruteForce(7, 3, 1.0, 0.25, 400);
 }

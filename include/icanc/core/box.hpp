@@ -1,7 +1,10 @@
 // 3D boxes fitted to clusters, and the overlap measure the tracker gates on.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
+#include <opencv2/core/types.hpp>
 
 #include "icanc/core/types.hpp"
 
@@ -20,6 +23,11 @@ struct Box3D {
 // axis-aligned bounds from min/max, oriented box from OpenCV's minimum-area rectangle of the
 // points' x/y with z from min/max. An empty point set gives a zero box with num_points = 0.
 Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices = nullptr);
+
+// The same boxes from a footprint only: x/y points (the cluster's points, or any subset holding
+// its extreme points), the cluster's z range and its point count. Shared by fitBox and the fast
+// path (which passes each grid cell's extreme points). An empty footprint gives a zero box.
+Box3D fitBoxFootprint(const std::vector<cv::Point2f>& xy, float zmin, float zmax, int num_points);
 
 // Intersection over union of the axis-aligned boxes seen from above (x/y only), in [0, 1].
 float bevIoU(const Box3D& a, const Box3D& b);

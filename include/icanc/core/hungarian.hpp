@@ -31,4 +31,16 @@ struct AssignmentWorkspace {
 void solveAssignment(const Eigen::Ref<const Eigen::MatrixXd>& cost, AssignmentWorkspace& workspace,
                      std::vector<int>& row_to_col);
 
+// Same result as solveAssignment (the same number of allowed pairs and total cost; among equal
+// optima either may be returned), solved separately on each connected component of the graph of
+// allowed pairs: with gating, n objects cost about n small problems instead of one O(n^3) one.
+struct ComponentWorkspace {
+  AssignmentWorkspace assignment;
+  std::vector<int> parent, rows, cols, component_of, order;
+  Eigen::MatrixXd sub_cost;
+  std::vector<int> sub_result;
+};
+void solveAssignmentByComponents(const Eigen::Ref<const Eigen::MatrixXd>& cost,
+                                 ComponentWorkspace& workspace, std::vector<int>& row_to_col);
+
 }  // namespace icanc

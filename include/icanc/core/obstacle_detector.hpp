@@ -2,19 +2,31 @@
 // Euclidean clusters and boxes -> tracking (Hungarian + Kalman), with per-stage timings.
 #pragma once
 
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "icanc/core/box.hpp"
 #include "icanc/core/cloud_prep.hpp"
 #include "icanc/core/clustering.hpp"
+#include "icanc/core/fast_detector.hpp"
 #include "icanc/core/ground_removal.hpp"
 #include "icanc/core/tracker.hpp"
 #include "icanc/core/types.hpp"
 
 namespace icanc {
 
+// "classic": the paper's PCL chain (voxel grid, RANSAC plane, k-d tree Euclidean clusters).
+// "fast": FastDetector (polar-grid ground that follows slopes, BEV grid connected components);
+// it uses prep's ROI and ego box, not its voxel grid, nor the ground and cluster sections.
+enum class DetectorMethod : std::uint8_t { kClassic, kFast, kInvalid };
+const char* toString(DetectorMethod method);
+DetectorMethod parseDetectorMethod(const std::string& name);  // kInvalid for anything else
+
 struct ObstacleDetectorParams {
+  DetectorMethod method = DetectorMethod::kClassic;
+  FastDetectorParams fast;
   CloudPrepParams prep;
   GroundParams ground;
   ClusterParams cluster;
@@ -40,9 +52,17 @@ class ObstacleDetector {
   MultiObjectTracker::UpdateResult process(double stamp_s, const Cloud& cloud,
                                            StageTimes* times = nullptr);
 
+  // Same, with the points from `source(sink)` (sink(x, y, z) per point, already in the vehicle
+  // frame), e.g. straight from a PointCloud2 decoder: the fast path reads them in its first
+  // pass; the classic one collects them into a cloud first.
+  template <class Source>
+  MultiObjectTracker::UpdateResult processFrom(double stamp_s, Source&& source,
+                                               StageTimes* times = nullptr);
+
   const std::vector<Box3D>& detections() const { return detections_; }  // this frame's clusters
   const std::vector<Track>& tracks() const { return tracker_.tracks(); }
-  const GroundResult& ground() const { return ground_; }
+  const GroundResult& ground() const { return ground_; }  // classic path only
+  const FastDetector* fast() const { return fast_.get(); }  // null unless method is kFast
 
   // Takes effect on the next frame; the tracks are kept.
   void setParams(const ObstacleDetectorParams& params);
@@ -50,12 +70,34 @@ class ObstacleDetector {
   void reset() { tracker_.reset(); }
 
  private:
+  MultiObjectTracker::UpdateResult track(double stamp_s, StageTimes* times);
+
   ObstacleDetectorParams params_;
+  std::unique_ptr<FastDetector> fast_;
   MultiObjectTracker tracker_;
+  Cloud collected_;
   Cloud prepared_;
   Cloud nonground_;
   GroundResult ground_;
   std::vector<Box3D> detections_;
 };
+
+template <class Source>
+MultiObjectTracker::UpdateResult ObstacleDetector::processFrom(double stamp_s, Source&& source,
+                                                               StageTimes* times) {
+  if (!fast_) {
+    collected_.clear();
+    source([this](float x, float y, float z) { collected_.push_back(Point(x, y, z)); });
+    return process(stamp_s, collected_, times);
+  }
+  FastStageTimes fast_times;
+  fast_->detectFrom(std::forward<Source>(source), detections_, &fast_times);
+  if (times) {
+    times->prep_ms = fast_times.prep_ms;
+    times->ground_ms = fast_times.ground_ms;
+    times->cluster_ms = fast_times.cluster_ms;
+  }
+  return track(stamp_s, times);
+}
 
 }  // namespace icanc

@@ -15,6 +15,9 @@ namespace icanc {
 
 template <class Reader>
 void visitParams(Reader& r, ObstacleDetectorParams& p) {
+  std::string method = toString(p.method);  // "classic" | "fast"; validate() rejects others
+  r("method", method);
+  p.method = parseDetectorMethod(method);
   r("prep/roi_min", p.prep.roi_min);
   r("prep/roi_max", p.prep.roi_max);
   r("prep/remove_ego", p.prep.remove_ego);
@@ -36,6 +39,16 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/measurement_std_m", p.tracker.measurement_std_m);
   r("tracker/initial_velocity_std", p.tracker.initial_velocity_std);
   r("tracker/max_dt_s", p.tracker.max_dt_s);
+  r("fast/cell_m", p.fast.cell_m);
+  r("fast/link_m", p.fast.link_m);
+  r("fast/sectors", p.fast.sectors);
+  r("fast/range_bin_m", p.fast.range_bin_m);
+  r("fast/max_slope_deg", p.fast.max_slope_deg);
+  r("fast/ground_step_m", p.fast.ground_step_m);
+  r("fast/obstacle_height_m", p.fast.obstacle_height_m);
+  r("fast/max_height_m", p.fast.max_height_m);
+  r("fast/min_points", p.fast.min_points);
+  r("fast/max_points", p.fast.max_points);
 }
 
 template <class Reader>

@@ -1,5 +1,5 @@
 // Multi-object tracker: gating by centre displacement and BEV IoU, optimal assignment
-// (solveAssignment), one ConstantVelocityKalman per track, birth / confirmation / deletion.
+// (solveAssignmentByComponents), one ConstantVelocityKalman per track, birth / confirmation / deletion.
 // Time is always the caller's (header stamps), never a clock.
 #pragma once
 
@@ -73,7 +73,7 @@ class MultiObjectTracker {
 
   // Per-frame scratch, kept to avoid allocating in steady state (grows only).
   Eigen::MatrixXd cost_;  // tracks x detections, used through its top-left corner
-  AssignmentWorkspace assignment_workspace_;
+  ComponentWorkspace assignment_workspace_;  // solved per connected component of gated pairs
   std::vector<int> track_to_detection_;
   std::vector<char> detection_used_;
 };

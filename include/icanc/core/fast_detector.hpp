@@ -1,0 +1,160 @@
+// The fast obstacle-detection path (detector.method "fast"), next to the paper's PCL chain:
+//
+//  1. one pass over the points: drop non-finite / zero / outside the ROI / inside the ego box,
+//     then give each point its cell of a bird's-eye-view grid (cell_m). A table computed once
+//     per parameter set maps every BEV cell to a polar cell (sector x range bin), so no atan2
+//     runs per point; the lowest z of each polar cell is kept.
+//  2. ground that follows slopes: per sector, from the nearest range bin outward, a bin's lowest
+//     point is ground when its height step from the previous ground bin is within
+//     max_slope_deg (plus ground_step_m); otherwise the previous ground height carries on. A
+//     point is an obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground.
+//  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find over the occupied
+//     cells only), cluster size limits on points, one box per cluster from its footprint
+//     (fitBoxFootprint, shared with the classic chain).
+//
+// The beam (ring) of a point is never needed, so organized and unorganized clouds, with or
+// without a ring field, go through the same code. Every buffer lives in the FastDetector and is
+// reused: after the first frames of a given size nothing is allocated per frame.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core/types.hpp>
+
+#include "icanc/core/box.hpp"
+#include "icanc/core/cloud_prep.hpp"
+#include "icanc/core/types.hpp"
+
+namespace icanc {
+
+struct FastDetectorParams {
+  float cell_m = 0.25f;             // BEV grid cell [m]
+  float link_m = 0.5f;              // occupied cells whose centres are this close (and always
+                                    // the 8 neighbours) belong to one obstacle [m]
+  int sectors = 180;                // polar ground grid: angular sectors over 360 deg
+  float range_bin_m = 1.0f;         // polar ground grid: radial bin [m]
+  float max_slope_deg = 10.0f;      // ground may rise or fall this steeply between bins
+  float ground_step_m = 0.15f;      // plus this step (kerbs, noise) [m]
+  float obstacle_height_m = 0.3f;   // a point this far above its ground is an obstacle [m]
+  float max_height_m = 3.0f;        // ... up to this height (branches, bridges above) [m]
+  int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
+  int max_points = 20000;
+};
+
+std::string validate(const FastDetectorParams& params);
+
+struct FastStageTimes {
+  double prep_ms = 0.0;     // pass 1: filter, BEV cell, polar minimum
+  double ground_ms = 0.0;   // ground per polar cell + obstacle points into the BEV grid
+  double cluster_ms = 0.0;  // connected components + boxes
+};
+
+class FastDetector {
+ public:
+  // `prep` gives the ROI and ego box (its voxel grid is not used: the BEV grid replaces it).
+  // Throws std::invalid_argument when either parameter set is invalid.
+  FastDetector(const CloudPrepParams& prep, const FastDetectorParams& params);
+
+  // One frame, already in the vehicle frame. Boxes are largest cluster first.
+  void detect(const Cloud& cloud, std::vector<Box3D>& boxes, FastStageTimes* times = nullptr);
+
+  // Same, reading points through a callable `source(sink)` that calls sink(x, y, z) for every
+  // point: lets a decoder feed pass 1 directly, without an intermediate cloud.
+  template <class Source>
+  void detectFrom(Source&& source, std::vector<Box3D>& boxes, FastStageTimes* times = nullptr);
+
+  // Ground height [m] the last frame estimated under (x, y); NaN outside the grid.
+  float groundAt(float x, float y) const;
+  std::size_t keptPoints() const { return points_.size(); }
+  std::size_t obstaclePoints() const { return obstacle_points_; }
+
+  // Bytes held by the reusable buffers (capacities): stable in steady state.
+  std::size_t capacityBytes() const;
+
+ private:
+  struct Kept {
+    float x, y, z;
+    std::uint32_t cell;
+  };
+  struct Cell {  // BEV cell accumulator, valid only while `count` > 0
+    std::int32_t count = 0;
+    std::int32_t slot = -1;  // index into occupied_
+    float zmin, zmax;
+    float xmin_x, xmin_y, xmax_x, xmax_y, ymin_x, ymin_y, ymax_x, ymax_y;  // extreme points
+  };
+  struct Cluster {
+    std::int32_t count = 0;
+    float zmin, zmax, xmin, xmax, ymin, ymax;
+    std::int32_t first_cell = -1;  // linked list of its cells through next_in_cluster_
+  };
+
+  inline void keep(float x, float y, float z);
+  void beginFrame();
+  void finishFrame(std::vector<Box3D>& boxes, FastStageTimes* times, double prep_ms);
+  void estimateGround();
+  void markObstacles();
+  void clusterAndFit(std::vector<Box3D>& boxes);
+  std::int32_t find(std::int32_t k);
+
+  CloudPrepParams prep_;
+  FastDetectorParams params_;
+  bool ego_ = false;
+  int nx_ = 0, ny_ = 0, bins_ = 0;
+  float inv_cell_ = 0.0f;
+  float initial_ground_z_ = 0.0f;
+
+  std::vector<std::int32_t> polar_of_cell_;  // BEV cell -> polar cell (sector * bins_ + bin)
+  std::vector<Kept> points_;
+  std::vector<float> polar_min_z_;
+  std::vector<float> polar_ground_;
+  std::vector<float> near_lows_;             // scratch: lowest z of the bins near the vehicle
+  std::vector<Cell> cells_;
+  std::vector<std::int32_t> occupied_;       // occupied BEV cells this frame
+  std::vector<std::int32_t> parent_;         // union-find over occupied_ slots
+  std::vector<std::int32_t> next_in_cluster_;
+  std::vector<std::int32_t> cluster_of_root_;
+  std::vector<Cluster> clusters_;
+  std::vector<cv::Point2f> footprint_;
+  std::vector<std::pair<int, int>> forward_;  // neighbour offsets linked "forward" (half window)
+  std::size_t obstacle_points_ = 0;
+};
+
+inline double fastNowMs() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+inline void FastDetector::keep(float x, float y, float z) {
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return;
+  if (x == 0.0f && y == 0.0f && z == 0.0f) return;
+  // ROI closed, ego box closed (as prepareCloud).
+  if (x < prep_.roi_min.x() || x > prep_.roi_max.x() || y < prep_.roi_min.y() ||
+      y > prep_.roi_max.y() || z < prep_.roi_min.z() || z > prep_.roi_max.z())
+    return;
+  if (ego_ && x >= prep_.ego_min.x() && x <= prep_.ego_max.x() && y >= prep_.ego_min.y() &&
+      y <= prep_.ego_max.y() && z >= prep_.ego_min.z() && z <= prep_.ego_max.z())
+    return;
+  int cx = static_cast<int>((x - prep_.roi_min.x()) * inv_cell_);
+  int cy = static_cast<int>((y - prep_.roi_min.y()) * inv_cell_);
+  if (cx >= nx_) cx = nx_ - 1;  // a point on the upper ROI boundary
+  if (cy >= ny_) cy = ny_ - 1;
+  const std::uint32_t cell = static_cast<std::uint32_t>(cy * nx_ + cx);
+  points_.push_back(Kept{x, y, z, cell});
+  float& lowest = polar_min_z_[static_cast<std::size_t>(polar_of_cell_[cell])];
+  if (z < lowest) lowest = z;
+}
+
+template <class Source>
+void FastDetector::detectFrom(Source&& source, std::vector<Box3D>& boxes, FastStageTimes* times) {
+  const auto t0 = fastNowMs();
+  beginFrame();
+  source([this](float x, float y, float z) { keep(x, y, z); });
+  finishFrame(boxes, times, fastNowMs() - t0);
+}
+
+}  // namespace icanc
