@@ -98,14 +98,16 @@ double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
   const double half_width = params.half_width_m + params.margin_m;
   const double length = params.vehicle_front_m + params.stopping_margin_m;
-  const double sigma = std::isfinite(object.velocity_std) ? std::max(0.0, object.velocity_std) : 0.0;
+  const auto sigmaOf = [](double s) { return std::isfinite(s) ? std::max(0.0, s) : 0.0; };
+  const double sigma_x = sigmaOf(object.velocity_std.x()), sigma_y = sigmaOf(object.velocity_std.y());
   const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
   for (int i = 0; i <= steps; ++i) {
     const double t = std::min(i * params.time_step_s, params.reaction_time_s);
-    const double grow = std::min(params.velocity_std_k * sigma * t, params.uncertainty_cap_m);
+    const double grow_x = std::min(params.velocity_std_k * sigma_x * t, params.uncertainty_cap_m);
+    const double grow_y = std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
     const double dx = object.velocity.x() * t, dy = object.velocity.y() * t;
-    const double x0 = object.aabb_min.x() + dx - grow, x1 = object.aabb_max.x() + dx + grow;
-    const double y0 = object.aabb_min.y() + dy - grow, y1 = object.aabb_max.y() + dy + grow;
+    const double x0 = object.aabb_min.x() + dx - grow_x, x1 = object.aabb_max.x() + dx + grow_x;
+    const double y0 = object.aabb_min.y() + dy - grow_y, y1 = object.aabb_max.y() + dy + grow_y;
     if (x1 >= 0.0 && x0 <= length && y1 >= -half_width && y0 <= half_width) return t;
   }
   return -1.0;

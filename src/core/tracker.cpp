@@ -46,6 +46,11 @@ double Track::velocityStd() const {
   return std::sqrt(P(3, 3) + P(4, 4));
 }
 
+Eigen::Vector2d Track::velocityStdXY() const {
+  const auto& P = filter.covariance();
+  return Eigen::Vector2d(std::sqrt(P(3, 3)), std::sqrt(P(4, 4)));
+}
+
 MultiObjectTracker::MultiObjectTracker(const TrackerParams& params) : params_(params) {}
 
 void MultiObjectTracker::reset() {

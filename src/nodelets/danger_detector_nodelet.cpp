@@ -60,8 +60,7 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     const bool predictive = params_.model == DangerModel::kPredictive;
     const double now = msg->header.stamp.toSec();
     for (Obstacle& o : out->obstacles) {
-      ObjectKinematics k = toKinematics(o);
-      k.velocity_std = o.velocity_std;
+      const ObjectKinematics k = toKinematics(o);
       const DangerAssessment a = assessDanger(k, params_);
       o.section = static_cast<std::uint8_t>(a.section);
       o.closest_distance = static_cast<float>(a.distance_m);

@@ -1,5 +1,6 @@
 #include "icanc/ros/bag_replay.hpp"
 
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -35,6 +36,8 @@ std::vector<TruthObject> toTruth(const GroundTruthArray& gt) {
     t.id = o.id;
     t.type = o.type;
     t.center = Eigen::Vector2d(o.pose.position.x, o.pose.position.y);
+    t.size = Eigen::Vector2d(o.dimensions.x, o.dimensions.y);
+    t.yaw = 2.0 * std::atan2(o.pose.orientation.z, o.pose.orientation.w);
     t.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
     t.num_points = o.num_points;
     t.dangerous = o.dangerous;

@@ -44,6 +44,9 @@ void toObstacleMsg(const Track& track, Obstacle& out) {
   out.speed = getSpeedOfObject(v);
   out.heading = headingDeg(v);
   out.velocity_std = track.velocityStd();
+  const Eigen::Vector2d std_xy = track.velocityStdXY();
+  out.velocity_std_axes.x = std_xy.x();
+  out.velocity_std_axes.y = std_xy.y();
   out.age = track.age;
   out.hits = track.hits;
   out.missed = track.missed;
@@ -56,6 +59,7 @@ ObjectKinematics toKinematics(const Obstacle& o) {
   k.aabb_min = Eigen::Vector3d(o.aabb_min.x, o.aabb_min.y, o.aabb_min.z);
   k.aabb_max = Eigen::Vector3d(o.aabb_max.x, o.aabb_max.y, o.aabb_max.z);
   k.velocity = Eigen::Vector3d(o.velocity.x, o.velocity.y, o.velocity.z);
+  k.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
   return k;
 }
 

@@ -14,7 +14,7 @@ ObjectKinematics boxAt(double x, double y, double half, double vx, double vy, do
   o.aabb_min = o.center - Eigen::Vector3d(half, half, 0.85);
   o.aabb_max = o.center + Eigen::Vector3d(half, half, 0.85);
   o.velocity = Eigen::Vector3d(vx, vy, 0.0);
-  o.velocity_std = sigma;
+  o.velocity_std = Eigen::Vector2d(sigma, sigma);
   return o;
 }
 
@@ -74,16 +74,30 @@ TEST(DangerPredictive, WalkingParallelOutsideTheCorridorIsNot) {
 }
 
 TEST(DangerPredictive, UncertainNewTrackNearThePathErrsTowardDanger) {
-  // Edge 0.15 m outside the corridor, estimated at rest.
-  const ObjectKinematics settled = boxAt(2.5, 1.4, 0.25, 0.0, 0.0, 0.0);
-  const ObjectKinematics fresh = boxAt(2.5, 1.4, 0.25, 0.0, 0.0, 5.0);  // initial_velocity_std
+  // Edge 0.15 m beside the corridor (within its length), estimated at rest.
+  const ObjectKinematics settled = boxAt(1.2, 1.4, 0.25, 0.0, 0.0, 0.0);
+  const ObjectKinematics fresh = boxAt(1.2, 1.4, 0.25, 0.0, 0.0, 5.0);  // initial_velocity_std
   EXPECT_FALSE(assessDanger(settled, zebra(DangerModel::kPredictive)).dangerous);
   EXPECT_TRUE(assessDanger(fresh, zebra(DangerModel::kPredictive)).dangerous);
-  // ... but only near: the growth is capped (1 m), a fresh track 4 m to the side stays safe.
-  EXPECT_FALSE(assessDanger(boxAt(2.5, 4.0, 0.25, 0.0, 0.0, 5.0), zebra(DangerModel::kPredictive)).dangerous);
+  // ... but only near: the growth is capped (0.5 m), a fresh track 4 m to the side stays safe,
+  // and so does one 0.15 m beside and 0.75 m beyond the corridor's end.
+  EXPECT_FALSE(assessDanger(boxAt(1.2, 4.0, 0.25, 0.0, 0.0, 5.0), zebra(DangerModel::kPredictive)).dangerous);
+  EXPECT_FALSE(assessDanger(boxAt(2.5, 1.4, 0.25, 0.0, 0.0, 5.0), zebra(DangerModel::kPredictive)).dangerous);
   DangerParams no_uncertainty = zebra(DangerModel::kPredictive);
   no_uncertainty.velocity_std_k = 0.0;
   EXPECT_FALSE(assessDanger(fresh, no_uncertainty).dangerous);
+}
+
+TEST(DangerPredictive, UncertaintyGrowsEachAxisByItsOwnSigma) {
+  // Edge 0.15 m beside the corridor: an uncertain closing speed (x) does not pull it sideways
+  // into the path; an uncertain lateral speed (y) does.
+  ObjectKinematics beside = boxAt(1.2, 1.4, 0.25, 0.0, 0.0);
+  beside.velocity_std = Eigen::Vector2d(5.0, 0.0);
+  EXPECT_FALSE(assessDanger(beside, zebra(DangerModel::kPredictive)).dangerous);
+  beside.velocity_std = Eigen::Vector2d(0.0, 5.0);
+  const DangerAssessment a = assessDanger(beside, zebra(DangerModel::kPredictive));
+  EXPECT_TRUE(a.dangerous);
+  EXPECT_NEAR(a.time_to_corridor_s, 0.05, 1e-9);  // 5 m/s * 0.05 s = 0.25 m >= 0.15 m
 }
 
 TEST(DangerPredictive, StaticObjectWhileTheVehicleMovesOnlyInTheFutureFootprint) {
@@ -97,7 +111,10 @@ TEST(DangerPredictive, StaticObjectWhileTheVehicleMovesOnlyInTheFutureFootprint)
 }
 
 TEST(DangerHysteresis, HoldsThroughOneSafeFrameAndDropsAfterOffFrames) {
-  DangerParams p = zebra(DangerModel::kPredictive);  // on_frames 2, off_frames 3, immediate 1.5 s
+  DangerParams p = zebra(DangerModel::kPredictive);
+  p.on_frames = 2;
+  p.off_frames = 3;
+  p.immediate_ttc_s = 1.5;
   DangerHysteresis h(p);
   DangerAssessment far_danger, safe, urgent;
   far_danger.dangerous = true;

@@ -1,4 +1,6 @@
 // Pins the evaluation's counting on hand-built frames.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "icanc/core/evaluation.hpp"
@@ -76,9 +78,30 @@ TEST(Evaluate, OptimalMatchingNotGreedy) {
   // matching pairs 10.0-10.7 and 11.4-12.8.
   std::vector<EvalFrame> frames{frame(0.0, false, {truth(1, 10.0, 0, false), truth(2, 11.4, 0, false)},
                                       {det(7, 10.7, 0, false), det(8, 12.8, 0, false)})};
-  const EvalReport r = evaluate(frames, EvalParams());
+  EvalParams p;
+  p.match_distance_m = 1.5;
+  const EvalReport r = evaluate(frames, p);
   EXPECT_EQ(r.detection.tp, 2u);  // a greedy pass would pair 11.4 with 10.7 and lose 10.0
   EXPECT_EQ(r.detection.fn, 0u);
+}
+
+TEST(Evaluate, MatchesByDistanceToTheOrientedTrueFootprint) {
+  // A car 4.5 x 1.8 m turned 90 deg (long side along y) at (10, 0): the LiDAR sees its near side,
+  // so the cluster centre (10, 1.9) is 1.9 m from the true centre but inside the footprint.
+  TruthObject car = truth(1, 10, 0, false);
+  car.size = Eigen::Vector2d(4.5, 1.8);
+  car.yaw = M_PI / 2;
+  EXPECT_NEAR(distanceToFootprint(car, Eigen::Vector2d(10, 1.9)), 0.0, 1e-9);
+  EXPECT_NEAR(distanceToFootprint(car, Eigen::Vector2d(12.0, 0)), 2.0 - 0.9, 1e-9);
+  EXPECT_NEAR(distanceToFootprint(car, Eigen::Vector2d(10, -3.25)), 1.0, 1e-9);
+  std::vector<EvalFrame> seen{frame(0.0, false, {car}, {det(7, 10, 1.9, false)})};
+  EXPECT_EQ(evaluate(seen, EvalParams()).detection.tp, 1u);
+  // 1.1 m beyond the footprint's side (gate 1.0): not the car.
+  std::vector<EvalFrame> beside{frame(0.0, false, {car}, {det(7, 12.0, 0, false)})};
+  const EvalReport r = evaluate(beside, EvalParams());
+  EXPECT_EQ(r.detection.tp, 0u);
+  EXPECT_EQ(r.detection.fn, 1u);
+  EXPECT_EQ(r.detection.fp, 1u);
 }
 
 TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {

@@ -38,16 +38,17 @@ struct DangerParams {
   double margin_m = 0.3;
   double vehicle_front_m = 0.5;
   double stopping_margin_m = 1.0;
-  // Velocity uncertainty: the predicted footprint grows by min(k * sigma * t, cap) on every side,
-  // so a track whose velocity is still uncertain errs toward danger when it is near the path.
+  // Velocity uncertainty: the predicted footprint grows by min(k * sigma_axis * t, cap) along x and
+  // along y (each axis by its own sigma), so a track whose velocity is still uncertain errs toward
+  // danger when it is near the path, and a well-measured axis does not widen the other.
   double velocity_std_k = 1.0;
-  double uncertainty_cap_m = 1.0;
+  double uncertainty_cap_m = 0.5;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
   // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
   int on_frames = 2;
-  int off_frames = 3;
-  double immediate_ttc_s = 1.5;
+  int off_frames = 2;
+  double immediate_ttc_s = 1.0;
   double forget_after_s = 1.0;   // a track id not seen for this long is forgotten
 };
 
@@ -80,7 +81,8 @@ struct ObjectKinematics {
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d aabb_max = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // relative to the vehicle [m/s]
-  double velocity_std = 0.0;  // 1-sigma planar velocity uncertainty of the filter [m/s]
+  // 1-sigma velocity uncertainty of the filter along x and y [m/s].
+  Eigen::Vector2d velocity_std = Eigen::Vector2d::Zero();
 };
 
 struct DangerAssessment {
@@ -102,7 +104,7 @@ struct DangerAssessment {
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
 // kPredictive's core: the axis-aligned footprint [aabb_min, aabb_max] (x, y) moving at the
-// relative velocity, grown by min(k * velocity_std * t, cap), sampled every time_step_s over
+// relative velocity, grown per axis by min(k * velocity_std(axis) * t, cap), sampled every time_step_s over
 // [0, reaction_time]: the first time it overlaps the corridor, or -1.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
 

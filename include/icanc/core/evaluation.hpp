@@ -16,6 +16,8 @@ struct TruthObject {
   std::uint32_t id = 0;
   std::string type;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();  // x, y in the vehicle frame [m]
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();    // footprint length (along yaw), width [m]
+  double yaw = 0.0;                                  // [rad]
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
   bool has_velocity = true;
   std::uint32_t num_points = 0;   // LiDAR returns inside the true box
@@ -40,7 +42,9 @@ struct EvalFrame {
 };
 
 struct EvalParams {
-  double match_distance_m = 1.5;  // BEV centre distance for a detection to match a true object
+  // A detection matches a true object when its BEV centre lies within this distance of the true
+  // oriented footprint (0 inside it): a partly seen car's cluster centre sits off the true centre.
+  double match_distance_m = 1.0;
   std::uint32_t min_points = 10;  // true objects with fewer returns are not expected to be seen
   double max_range_m = 40.0;      // true objects / detections farther away are not scored
   double fov_half_angle_deg = 180.0;  // scored sector around +x (KITTI labels: 45)
@@ -67,6 +71,9 @@ struct EvalReport {
   double latency_p50_ms = 0, latency_p90_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   double duty_cycle = 0.0;          // fraction of processed frames with the lamp on
 };
+
+// Distance from a point to the oriented footprint of a true object (0 when inside).
+double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point);
 
 EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params);
 

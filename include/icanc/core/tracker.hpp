@@ -39,7 +39,8 @@ struct Track {
 
   Eigen::Vector3d velocity() const { return filter.velocity(); }
   // 1-sigma uncertainty of the planar velocity [m/s] (sqrt of the x/y velocity variance sum).
-  double velocityStd() const;
+  double velocityStd() const;           // planar: sqrt(var vx + var vy)
+  Eigen::Vector2d velocityStdXY() const;  // per axis: sqrt(var vx), sqrt(var vy)
 };
 
 class MultiObjectTracker {
