@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
       kin.aabb_min = track.box.min.cast<double>();
       kin.aabb_max = track.box.max.cast<double>();
       kin.velocity = track.velocity();
-      kin.velocity_std = track.velocityStd();
+      kin.velocity_std = track.velocityStdXY();
       const icanc::DangerAssessment a = icanc::assessDanger(kin, profile.danger);
       icanc::OverlayObject o;
       o.id = track.id;
