@@ -51,8 +51,6 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
   }
   if (!why.empty()) throw std::invalid_argument(why);
 
-  ego_ = prep.remove_ego;
-  for (int i = 0; i < 3; ++i) ego_ = ego_ && prep.ego_min[i] < prep.ego_max[i];
   inv_cell_ = 1.0f / params.cell_m;
   nx_ = std::max(1, static_cast<int>(std::ceil((prep.roi_max.x() - prep.roi_min.x()) * inv_cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil((prep.roi_max.y() - prep.roi_min.y()) * inv_cell_)));
@@ -60,6 +58,17 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
   for (float x : {prep.roi_min.x(), prep.roi_max.x()})
     for (float y : {prep.roi_min.y(), prep.roi_max.y()}) max_range = std::max(max_range, std::hypot(x, y));
   bins_ = static_cast<int>(std::ceil(max_range / params.range_bin_m)) + 1;
+  pass_one_.ego = prep.remove_ego;
+  for (int i = 0; i < 3; ++i) {
+    pass_one_.roi_min[i] = prep.roi_min[i];
+    pass_one_.roi_max[i] = prep.roi_max[i];
+    pass_one_.ego_min[i] = prep.ego_min[i];
+    pass_one_.ego_max[i] = prep.ego_max[i];
+    pass_one_.ego = pass_one_.ego && prep.ego_min[i] < prep.ego_max[i];
+  }
+  pass_one_.inv_cell = inv_cell_;
+  pass_one_.nx = nx_;
+  pass_one_.ny = ny_;
 
   // The polar cell of every BEV cell, from the cell's centre: atan2 runs once here, never per
   // point.
@@ -85,21 +94,27 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
 
   polar_min_z_.assign(static_cast<std::size_t>(params.sectors) * bins_, kInf);
   polar_ground_.assign(polar_min_z_.size(), 0.0f);
+  cell_min_z_.assign(polar_of_cell_.size(), kInf);
   cells_.resize(polar_of_cell_.size());
 }
 
 std::size_t FastDetector::capacityBytes() const {
   return polar_of_cell_.capacity() * sizeof(std::int32_t) + points_.capacity() * sizeof(Kept) +
-         (polar_min_z_.capacity() + polar_ground_.capacity() + near_lows_.capacity()) * sizeof(float) +
+         (cell_min_z_.capacity() + polar_min_z_.capacity() + polar_ground_.capacity() + near_lows_.capacity()) * sizeof(float) +
          cells_.capacity() * sizeof(Cell) +
          (occupied_.capacity() + parent_.capacity() + next_in_cluster_.capacity() +
           cluster_of_root_.capacity()) * sizeof(std::int32_t) +
          clusters_.capacity() * sizeof(Cluster) + footprint_.capacity() * sizeof(cv::Point2f);
 }
 
+FastDetector::Kept* FastDetector::growPoints(std::size_t used) {
+  kept_ = used;
+  points_.resize(std::max<std::size_t>(4096, 2 * points_.size()));
+  return points_.data();
+}
+
 void FastDetector::beginFrame() {
-  points_.clear();
-  std::fill(polar_min_z_.begin(), polar_min_z_.end(), kInf);
+  kept_ = 0;
 }
 
 void FastDetector::detect(const Cloud& cloud, std::vector<Box3D>& boxes, FastStageTimes* times) {
@@ -125,6 +140,13 @@ void FastDetector::finishFrame(std::vector<Box3D>& boxes, FastStageTimes* times,
 }
 
 void FastDetector::estimateGround() {
+  // Polar minimum from the BEV cells' minima, which are reset for the next frame on the way.
+  std::fill(polar_min_z_.begin(), polar_min_z_.end(), kInf);
+  for (std::size_t c = 0; c < cell_min_z_.size(); ++c) {
+    float& lowest = polar_min_z_[static_cast<std::size_t>(polar_of_cell_[c])];
+    lowest = std::min(lowest, cell_min_z_[c]);
+    cell_min_z_[c] = kInf;
+  }
   const int sectors = params_.sectors;
   const float bin = params_.range_bin_m;
   // Start height: the median of the lowest points of the bins nearer than 10 m (mostly road
@@ -168,7 +190,8 @@ void FastDetector::markObstacles() {
   occupied_.clear();
   obstacle_points_ = 0;
   const float lo = params_.obstacle_height_m, hi = params_.max_height_m;
-  for (const Kept& p : points_) {
+  for (std::size_t i = 0; i < kept_; ++i) {
+    const Kept& p = points_[i];
     const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
     if (h < lo || h > hi) continue;
     ++obstacle_points_;
