@@ -176,8 +176,22 @@ void FastDetector::estimateGround() {
       const float lowest = polar_min_z_[base + b];
       if (lowest < kInf) {
         const float allowed = tan_slope * (r - ground_r) + params_.ground_step_m;
-        if (std::abs(lowest - ground) <= allowed || lowest < ground) {
-          ground = lowest;  // follows the slope (and never stays above a real return)
+        bool follow = std::abs(lowest - ground) <= allowed || lowest < ground;
+        if (follow && lowest < ground - params_.ground_step_m) {
+          // A drop beyond the step is followed (ground never stays above a real return) when
+          // the next bin with returns stays nearer the new low than the old ground. One return
+          // below the floor (multipath, a spurious range past the surface) is not confirmed:
+          // following it made the floor around it an obstacle (pedestrian_far_away through the
+          // fast path: boxes 0.01 m high over a ground of -0.3 m).
+          for (int n = b + 1; n < bins_; ++n) {
+            const float next = polar_min_z_[base + n];
+            if (next == kInf) continue;
+            follow = std::abs(next - lowest) < std::abs(next - ground);
+            break;
+          }
+        }
+        if (follow) {
+          ground = lowest;
           ground_r = r;
         }
       }

@@ -62,6 +62,32 @@ TEST(FastDetector, FlatGroundIsRemoved) {
   EXPECT_NEAR(detector.groundAt(20.0f, 5.0f), kFlat, 1e-4f);
 }
 
+// A return below the floor (multipath, or a spurious range past the surface: the simulator's
+// spurious_prob) used to drag its polar cell's ground down, so the floor around it, 0.3 m above
+// that false ground, became a flat "obstacle" (pedestrian_far_away through the fast path: boxes
+// 0.01 m high over a ground of -0.4 m, 9 false danger frames).
+TEST(FastDetector, OneReturnBelowTheFloorDoesNotTurnTheFloorIntoAnObstacle) {
+  Cloud cloud;
+  addGround(cloud, 40.0f, [](float, float) { return kFlat; });
+  const std::vector<Eigen::Vector2f> holes = {{8.0f, -3.0f}, {15.0f, 6.0f}, {25.0f, 0.5f}};
+  for (const auto& at : holes) cloud.push_back(Point(at.x(), at.y(), kFlat - 0.45f));
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(cloud, boxes);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_EQ(detector.obstaclePoints(), 0u);
+  for (const auto& at : holes) EXPECT_NEAR(detector.groundAt(at.x(), at.y()), kFlat, 1e-4f);
+
+  // A real dip (a whole polar cell lower) is still followed.
+  Cloud dip;
+  addGround(dip, 40.0f, [](float x, float y) {
+    return std::hypot(x - 20.0f, y) < 2.0f ? kFlat - 0.25f : kFlat;
+  });
+  detector.detect(dip, boxes);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_NEAR(detector.groundAt(20.0f, 0.0f), kFlat - 0.25f, 1e-4f);
+}
+
 TEST(FastDetector, GroundFollowsASlopeThatOnePlaneCannotFit) {
   Cloud cloud;
   addGround(cloud, 40.0f, [](float x, float) { return slope(x); });
