@@ -58,7 +58,8 @@ struct DecodeStats {
   std::size_t total = 0;             // points in the message
   std::size_t kept = 0;              // points written to the output
   std::size_t dropped_nonfinite = 0; // NaN / Inf coordinates (and FLOAT64 beyond float's range,
-                                     // and points whose transform overflows float)
+                                     // and points whose transform or whose transformed
+                                     // coordinates' sum overflows float: beyond 1e38 m)
   std::size_t dropped_zero = 0;      // exact (0, 0, 0): "no return" on many drivers
 };
 

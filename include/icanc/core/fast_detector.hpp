@@ -3,11 +3,14 @@
 //  1. one pass over the points: drop non-finite / zero / outside the ROI / inside the ego box,
 //     then give each point its cell of a bird's-eye-view grid (cell_m). A table computed once
 //     per parameter set maps every BEV cell to a polar cell (sector x range bin), so no atan2
-//     runs per point; the lowest z of each polar cell is kept.
+//     runs per point; the lowest z of each BEV cell is kept, and reduced to its polar cell after
+//     the pass.
 //  2. ground that follows slopes: per sector, from the nearest range bin outward, a bin's lowest
 //     point is ground when its height step from the previous ground bin is within
-//     max_slope_deg (plus ground_step_m); otherwise the previous ground height carries on. A
-//     point is an obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground.
+//     max_slope_deg (plus ground_step_m), or when it is lower (a drop of more than ground_step_m
+//     only when the next bin with returns confirms it, so one return below the floor does not
+//     drag the ground down); otherwise the previous ground height carries on. A point is an
+//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground.
 //  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find over the occupied
 //     cells only), cluster size limits on points, one box per cluster from its footprint
 //     (fitBoxFootprint, shared with the classic chain).
