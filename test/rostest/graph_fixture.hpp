@@ -109,9 +109,11 @@ class GraphFixture {
   std::mt19937_64 rng_;
   Cloud scan_;
   ros::Publisher cloud_pub_;
-  ros::Subscriber state_sub_, array_sub_, detections_sub_;
   tf2_ros::StaticTransformBroadcaster tf_;
   Recorder rec_;
+  // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
+  // which then never writes into members already freed (ASan caught it at fixture teardown).
+  ros::Subscriber state_sub_, array_sub_, detections_sub_;
 };
 
 }  // namespace test

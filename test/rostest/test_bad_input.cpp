@@ -77,10 +77,12 @@ class BadInput : public ::testing::Test {
   }
 
   GraphFixture g_;
-  ros::Subscriber rosout_, diag_;
   std::mutex mutex_;
   std::vector<rosgraph_msgs::Log> logs_;
   std::map<std::string, std::string> counters_;
+  // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
+  // which then never writes into members already freed (ASan caught it at fixture teardown).
+  ros::Subscriber rosout_, diag_;
 };
 
 TEST_F(BadInput, EachMalformedCloudIsReportedCountedAndSurvived) {

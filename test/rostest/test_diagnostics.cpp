@@ -71,9 +71,11 @@ class Diagnostics : public ::testing::Test {
   GraphFixture g_;
   std::atomic<bool> running_{false};
   std::thread publisher_;
-  ros::Subscriber sub_;
   std::mutex mutex_;
   std::map<std::string, diagnostic_msgs::DiagnosticStatus> latest_;
+  // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
+  // which then never writes into members already freed (ASan caught it at fixture teardown).
+  ros::Subscriber sub_;
 };
 
 TEST_F(Diagnostics, InputRateProcessingTimeDroppedFramesAndLampState) {

@@ -124,13 +124,15 @@ struct RosSide {
   }
 
   ros::Publisher cmd_pub;
-  ros::Subscriber link_sub, state_sub, diag_sub, rosout_sub;
   std::mutex mutex;
   bool link_up = false;
   std::vector<std::pair<bool, double>> link_changes, lamp_states;
   std::map<std::string, std::string> diag;
   std::size_t diag_count = 0;
   std::vector<rosgraph_msgs::Log> logs;
+  // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
+  // which then never writes into members already freed (ASan caught it at fixture teardown).
+  ros::Subscriber link_sub, state_sub, diag_sub, rosout_sub;
 };
 
 // The LightController's part: lamp_cmd at 10 Hz with the wanted value, in a thread.

@@ -72,11 +72,13 @@ class LiveTuning : public ::testing::Test {
   dynamic_reconfigure::Client<DangerDetectorConfig> danger_;
   dynamic_reconfigure::Client<LightControllerConfig> light_;
   dynamic_reconfigure::Client<ObstacleDetectorConfig> detector_;
-  ros::Subscriber markers_sub_;
   std::mutex markers_mutex_;
   std::map<std::string, visualization_msgs::Marker> markers_;
   ros::Time t0_ = ros::Time::now();
   double t_ = 0.0;
+  // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
+  // which then never writes into members already freed (ASan caught it at fixture teardown).
+  ros::Subscriber markers_sub_;
 };
 
 TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {

@@ -164,12 +164,14 @@ class Watchdog : public ::testing::Test {
   }
 
   GraphFixture g_;
-  ros::Subscriber diag_;
   std::mutex mutex_;
   long stale_warnings_ = 0;
   long stale_events_ = 0;
   double stale_timeout_ = 0.3;
   double tick_ = 0.02;
+  // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
+  // which then never writes into members already freed (ASan caught it at fixture teardown).
+  ros::Subscriber diag_;
 };
 
 TEST_F(Watchdog, CloudStreamStopsThenResumes) { runGap(false); }

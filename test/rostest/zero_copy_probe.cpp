@@ -72,10 +72,12 @@ class ZeroCopyProbe : public nodelet::Nodelet {
   }
 
   std::mutex mutex_;
-  std::vector<ros::Subscriber> subs_, traces_;
   std::map<std::string, std::set<Key>> sent_;
   std::map<std::string, std::vector<Key>> received_;
   ros::Publisher report_pub_;
+  // Destroyed before the maps and the mutex they guard (a subscriber's destructor waits for a
+  // running callback), after the timer.
+  std::vector<ros::Subscriber> subs_, traces_;
   ros::WallTimer timer_;
 };
 
