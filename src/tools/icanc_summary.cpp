@@ -1,12 +1,16 @@
 // icanc_summary: a readable account of a run. Prints each lamp transition with the obstacle that
 // caused it, then at shutdown: frames, obstacles per frame, lamp on-time and duty cycle (ROS time),
 // processing time and end-to-end latency (cloud received -> light state, wall clock).
+// The lamp is timed on the LightController's clock (its states' stamps) from the first frame to
+// the last, so a replay on the wall clock (replay.launch sim_time:=false), whose clouds keep their
+// recorded stamps, still gets a duty cycle within [0, 100] %.
 //
 // Subscribes to obstacles_danger (icanc/ObstacleArray) and light_state (icanc/LightState); remap
 // them, e.g. obstacles_danger:=/icanc/obstacles_danger light_state:=/icanc/light_state.
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include <ros/ros.h>
@@ -32,6 +36,9 @@ class Summary {
 
   void onObstacles(const icanc::ObstacleArray::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
+    // The lamp's window, on the LightController's clock (sim or wall, as this node's).
+    if (frames_ == 0) lamp_from_ = ros::Time::now();
+    lamp_to_ = ros::Time::now();
     if (frames_ == 0) first_stamp_ = msg->header.stamp;
     last_stamp_ = msg->header.stamp;
     ++frames_;
@@ -48,16 +55,27 @@ class Summary {
       last_trigger_ = msg->cloud_stamp;
       latency_ms_.push_back((wall.toSec() - msg->cloud_receive_time.toSec()) * 1e3);
     }
-    if (have_state_ && on_) on_seconds_ += std::max(0.0, (msg->header.stamp - state_since_).toSec());
-    state_since_ = msg->header.stamp;
+    states_.emplace_back(msg->header.stamp, msg->on);
     if (!have_state_ || msg->on != on_ || msg->reason != reason_) describe(*msg);
     have_state_ = true;
     on_ = msg->on;
     reason_ = msg->reason;
   }
 
+  // Seconds the lamp was on within [from, to]: each state holds until the next one.
+  double onSeconds(const ros::Time& from, const ros::Time& to) const {
+    double on = 0.0;
+    for (std::size_t i = 0; i < states_.size(); ++i) {
+      if (!states_[i].second) continue;
+      const ros::Time a = std::max(states_[i].first, from);
+      const ros::Time b = std::min(i + 1 < states_.size() ? states_[i + 1].first : to, to);
+      if (b > a) on += (b - a).toSec();
+    }
+    return on;
+  }
+
   void describe(const icanc::LightState& s) {
-    const double t = frames_ ? (s.header.stamp - first_stamp_).toSec() : 0.0;
+    const double t = frames_ ? (s.header.stamp - lamp_from_).toSec() : 0.0;
     std::printf("[%7.2f s] lamp %-3s (%s)", t, s.on ? "ON" : "off", s.reason_text.c_str());
     if (s.reason == icanc::LightState::REASON_DANGER && last_array_) {
       for (const auto& o : last_array_->obstacles) {
@@ -73,13 +91,14 @@ class Summary {
   void print() {
     std::lock_guard<std::mutex> lock(mutex_);
     const double span = frames_ > 1 ? (last_stamp_ - first_stamp_).toSec() : 0.0;
-    if (have_state_ && on_) on_seconds_ += std::max(0.0, (last_stamp_ - state_since_).toSec());
+    const double lamp_span = frames_ > 0 ? std::max(0.0, (lamp_to_ - lamp_from_).toSec()) : 0.0;
+    const double on_seconds = frames_ > 0 ? onSeconds(lamp_from_, lamp_to_) : 0.0;
     std::printf("\n==== icanc run summary ====\n");
     std::printf("frames processed         %zu over %.1f s of data\n", frames_, span);
     std::printf("obstacles per frame      %.2f (dangerous object-frames: %zu)\n",
                 frames_ ? double(obstacles_) / frames_ : 0.0, dangerous_);
-    std::printf("lamp on                  %.1f s of %.1f s (duty cycle %.1f %%)\n", on_seconds_, span,
-                span > 0 ? 100.0 * on_seconds_ / span : 0.0);
+    std::printf("lamp on                  %.1f s of %.1f s (duty cycle %.1f %%)\n", on_seconds,
+                lamp_span, lamp_span > 0 ? 100.0 * on_seconds / lamp_span : 0.0);
     std::printf("detector processing ms   p50 %.2f  p99 %.2f  max %.2f\n",
                 percentile(processing_ms_, 0.5), percentile(processing_ms_, 0.99),
                 percentile(processing_ms_, 1.0));
@@ -90,14 +109,16 @@ class Summary {
 
  private:
   std::mutex mutex_;
-  ros::Subscriber obstacles_sub_, light_sub_;
   icanc::ObstacleArray::ConstPtr last_array_;
   std::size_t frames_ = 0, obstacles_ = 0, dangerous_ = 0;
-  ros::Time first_stamp_, last_stamp_, state_since_, last_trigger_;
+  ros::Time first_stamp_, last_stamp_, last_trigger_;
+  ros::Time lamp_from_, lamp_to_;  // first and last frame's arrival, on the LightController's clock
+  std::vector<std::pair<ros::Time, bool>> states_;  // every LightState: stamp, on
   bool have_state_ = false, on_ = false;
   std::uint8_t reason_ = 0;
-  double on_seconds_ = 0.0;
   std::vector<double> processing_ms_, latency_ms_;
+  // Declared last, so destroyed first: no callback runs into the members above as they go.
+  ros::Subscriber obstacles_sub_, light_sub_;
 };
 
 }  // namespace
