@@ -59,8 +59,9 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   r.frames = frames.size();
   std::vector<double> latencies;
   std::size_t on_frames = 0;
-  double velocity_sq = 0.0;
+  double velocity_sq = 0.0, velocity_sq_settled = 0.0, offset_step_sq = 0.0;
   std::map<std::uint32_t, std::uint32_t> last_det_of_truth;  // for id switches
+  std::map<std::uint32_t, Eigen::Vector2d> last_offset_of_truth;  // detected - true centre
 
   struct Episode {
     bool open = false;
@@ -102,14 +103,28 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         ++r.detection.tp;
         const DetectedObject& d = dets[m[i]];
         auto it = last_det_of_truth.find(o.id);
-        if (it != last_det_of_truth.end() && it->second != d.id) ++r.id_switches;
+        const bool same_track = it != last_det_of_truth.end() && it->second == d.id;
+        if (it != last_det_of_truth.end() && !same_track) ++r.id_switches;
         last_det_of_truth[o.id] = d.id;
+        const Eigen::Vector2d offset = d.center - o.center;
+        auto last_offset = last_offset_of_truth.find(o.id);
+        if (same_track && last_offset != last_offset_of_truth.end()) {
+          offset_step_sq += (offset - last_offset->second).squaredNorm();
+          ++r.offset_steps;
+        }
+        last_offset_of_truth[o.id] = offset;
         if (o.has_velocity) {
-          velocity_sq += (d.velocity - o.velocity).squaredNorm();
+          const double e2 = (d.velocity - o.velocity).squaredNorm();
+          velocity_sq += e2;
           ++r.velocity_samples;
+          if (d.age >= params.settled_age) {
+            velocity_sq_settled += e2;
+            ++r.velocity_samples_settled;
+          }
         }
       } else {
         ++r.detection.fn;
+        last_offset_of_truth.erase(o.id);  // a step is only counted between consecutive matches
       }
       // Danger per object-frame.
       const bool predicted = found && dets[m[i]].dangerous;
@@ -146,6 +161,9 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   for (auto& kv : episodes) close_episode(kv.second);
 
   r.velocity_rmse = r.velocity_samples ? std::sqrt(velocity_sq / r.velocity_samples) : 0.0;
+  r.velocity_rmse_settled =
+      r.velocity_samples_settled ? std::sqrt(velocity_sq_settled / r.velocity_samples_settled) : 0.0;
+  r.offset_step_rms_m = r.offset_steps ? std::sqrt(offset_step_sq / r.offset_steps) : 0.0;
   r.latency_p50_ms = percentile(latencies, 0.50);
   r.latency_p90_ms = percentile(latencies, 0.90);
   r.latency_p99_ms = percentile(latencies, 0.99);
@@ -165,6 +183,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
+      "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
       "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
       "lamp duty cycle %.1f %%\n",
       title.c_str(), r.frames, r.processed,
@@ -174,7 +193,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       100 * r.danger.precision(), 100 * r.danger.recall(), 100 * r.danger.accuracy(), 100 * r.danger.f1(),
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
-      r.velocity_samples, r.latency_p50_ms, r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
+      r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
+      r.offset_steps, r.latency_p50_ms, r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
       100 * r.duty_cycle);
   return buf;
 }
@@ -194,6 +214,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
   j << "], ";
   conf("detection", r.detection);
   j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
+    << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
+    << ", \"offset_step_rms_m\": " << r.offset_step_rms_m
     << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
     << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
     << ", \"duty_cycle\": " << r.duty_cycle << "}";

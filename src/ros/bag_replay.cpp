@@ -55,6 +55,7 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
     d.center = Eigen::Vector2d(o.pose.position.x, o.pose.position.y);
     d.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
     d.dangerous = o.dangerous;
+    d.age = o.age;
     out.push_back(d);
   }
   return out;

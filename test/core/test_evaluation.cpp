@@ -134,5 +134,32 @@ TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
   EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
 }
 
+// The velocity error's two diagnostics: a track's box whose centre jumps 0.2 m sideways every
+// frame (offset steps of 0.2 m), velocity judged only once the track is settled, and no step
+// counted across an id switch or a missed frame.
+TEST(Evaluation, SettledVelocityAndCentreOffsetSteps) {
+  std::vector<EvalFrame> frames;
+  for (int i = 0; i < 14; ++i) {
+    const double x = 20.0 - i;  // the true object comes 1 m closer per frame
+    DetectedObject d = det(7, x, (i % 2) ? 0.2 : 0.0, false, i < 10 ? -5.0 : -1.5);
+    d.age = static_cast<std::uint32_t>(i + 1);
+    std::vector<DetectedObject> dets{d};
+    if (i == 6) dets.clear();  // missed: no step from frame 5 to 7
+    frames.push_back(frame(0.1 * i, false, {truth(1, x, 0, false)}, dets));
+  }
+  frames.push_back(frame(1.4, false, {truth(1, 6, 0, false)}, {det(8, 6, 0.2, false)}));  // new id
+  EvalParams params;
+  params.settled_age = 10;
+  const EvalReport r = evaluate(frames, params);
+  // Steps: frames 0->1 ... 5->6 is gone (6 missed), 7->8 ... 12->13: 5 + 6 = 11, each 0.2 m.
+  EXPECT_EQ(r.offset_steps, 11u);
+  EXPECT_NEAR(r.offset_step_rms_m, 0.2, 1e-9);
+  // Ages 10..14 settled (frames 9..13): frame 9 is 4 m/s off, frames 10..13 0.5 m/s off.
+  EXPECT_EQ(r.velocity_samples_settled, 5u);
+  EXPECT_NEAR(r.velocity_rmse_settled, std::sqrt((16.0 + 4 * 0.25) / 5.0), 1e-9);
+  EXPECT_GT(r.velocity_rmse, r.velocity_rmse_settled);
+  EXPECT_NE(toJson(r, "t").find("\"offset_step_rms_m\": 0.2"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace icanc
