@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <mutex>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -17,6 +18,7 @@
 
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
+#include "icanc/core/energy.hpp"
 
 namespace {
 
@@ -37,8 +39,9 @@ class Summary {
   void onObstacles(const icanc::ObstacleArray::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     // The lamp's window, on the LightController's clock (sim or wall, as this node's).
-    if (frames_ == 0) lamp_from_ = ros::Time::now();
-    lamp_to_ = ros::Time::now();
+    const ros::Time now = ros::Time::now();
+    if (frames_ == 0) lamp_from_ = lamp_to_ = now;
+    settle(now);
     if (frames_ == 0) first_stamp_ = msg->header.stamp;
     last_stamp_ = msg->header.stamp;
     ++frames_;
@@ -62,20 +65,26 @@ class Summary {
     reason_ = msg->reason;
   }
 
-  // Seconds the lamp was on within [from, to]: each state holds until the next one.
-  double onSeconds(const ros::Time& from, const ros::Time& to) const {
-    double on = 0.0;
-    for (std::size_t i = 0; i < states_.size(); ++i) {
-      if (!states_[i].second) continue;
-      const ros::Time a = std::max(states_[i].first, from);
-      const ros::Time b = std::min(i + 1 < states_.size() ? states_[i + 1].first : to, to);
-      if (b > a) on += (b - a).toSec();
+  // Adds the lamp's on-time from the last frame to `t` (integrateOnTime: each state holds until
+  // the next one) and forgets the states before `t` but the one in force then (bounded memory).
+  void settle(const ros::Time& t) {
+    std::size_t in_force = 0;
+    window_.clear();
+    for (std::size_t i = 0; i < states_.size() && states_[i].first <= t; ++i) {
+      in_force = i;
+      window_.push_back({std::max(states_[i].first, lamp_to_).toSec(), states_[i].second, 0});
     }
-    return on;
+    try {
+      on_seconds_ += icanc::integrateOnTime(window_, t.toSec()).on_s;
+    } catch (const std::invalid_argument& e) {  // the clock went backwards (a looped bag)
+      ROS_WARN_THROTTLE(5.0, "icanc_summary: lamp time not counted: %s", e.what());
+    }
+    states_.erase(states_.begin(), states_.begin() + in_force);
+    lamp_to_ = std::max(lamp_to_, t);
   }
 
   void describe(const icanc::LightState& s) {
-    const double t = frames_ ? (s.header.stamp - lamp_from_).toSec() : 0.0;
+    const double t = frames_ ? std::max(0.0, (s.header.stamp - lamp_from_).toSec()) : 0.0;
     std::printf("[%7.2f s] lamp %-3s (%s)", t, s.on ? "ON" : "off", s.reason_text.c_str());
     if (s.reason == icanc::LightState::REASON_DANGER && last_array_) {
       for (const auto& o : last_array_->obstacles) {
@@ -92,13 +101,12 @@ class Summary {
     std::lock_guard<std::mutex> lock(mutex_);
     const double span = frames_ > 1 ? (last_stamp_ - first_stamp_).toSec() : 0.0;
     const double lamp_span = frames_ > 0 ? std::max(0.0, (lamp_to_ - lamp_from_).toSec()) : 0.0;
-    const double on_seconds = frames_ > 0 ? onSeconds(lamp_from_, lamp_to_) : 0.0;
     std::printf("\n==== icanc run summary ====\n");
     std::printf("frames processed         %zu over %.1f s of data\n", frames_, span);
     std::printf("obstacles per frame      %.2f (dangerous object-frames: %zu)\n",
                 frames_ ? double(obstacles_) / frames_ : 0.0, dangerous_);
-    std::printf("lamp on                  %.1f s of %.1f s (duty cycle %.1f %%)\n", on_seconds,
-                lamp_span, lamp_span > 0 ? 100.0 * on_seconds / lamp_span : 0.0);
+    std::printf("lamp on                  %.1f s of %.1f s (duty cycle %.1f %%)\n", on_seconds_,
+                lamp_span, lamp_span > 0 ? 100.0 * on_seconds_ / lamp_span : 0.0);
     std::printf("detector processing ms   p50 %.2f  p99 %.2f  max %.2f\n",
                 percentile(processing_ms_, 0.5), percentile(processing_ms_, 0.99),
                 percentile(processing_ms_, 1.0));
@@ -113,7 +121,9 @@ class Summary {
   std::size_t frames_ = 0, obstacles_ = 0, dangerous_ = 0;
   ros::Time first_stamp_, last_stamp_, last_trigger_;
   ros::Time lamp_from_, lamp_to_;  // first and last frame's arrival, on the LightController's clock
-  std::vector<std::pair<ros::Time, bool>> states_;  // every LightState: stamp, on
+  double on_seconds_ = 0.0;        // lamp on within [lamp_from_, lamp_to_]
+  std::vector<std::pair<ros::Time, bool>> states_;  // LightStates (stamp, on) since the last frame
+  std::vector<icanc::LampSample> window_;           // reused by settle()
   bool have_state_ = false, on_ = false;
   std::uint8_t reason_ = 0;
   std::vector<double> processing_ms_, latency_ms_;
