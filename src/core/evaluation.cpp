@@ -60,8 +60,14 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   std::vector<double> latencies;
   std::size_t on_frames = 0;
   double velocity_sq = 0.0, velocity_sq_settled = 0.0, offset_step_sq = 0.0;
-  std::map<std::uint32_t, std::uint32_t> last_det_of_truth;  // for id switches
-  std::map<std::uint32_t, Eigen::Vector2d> last_offset_of_truth;  // detected - true centre
+  // Per true id, its last match: the detection id (id switches) and, while it was matched in the
+  // previous scored frame, the detected centre's offset from the true centre (offset steps).
+  struct LastMatch {
+    std::uint32_t det_id = 0;
+    Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+    bool consecutive = false;
+  };
+  std::map<std::uint32_t, LastMatch> last_match;
 
   struct Episode {
     bool open = false;
@@ -102,17 +108,17 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (found) {
         ++r.detection.tp;
         const DetectedObject& d = dets[m[i]];
-        auto it = last_det_of_truth.find(o.id);
-        const bool same_track = it != last_det_of_truth.end() && it->second == d.id;
-        if (it != last_det_of_truth.end() && !same_track) ++r.id_switches;
-        last_det_of_truth[o.id] = d.id;
         const Eigen::Vector2d offset = d.center - o.center;
-        auto last_offset = last_offset_of_truth.find(o.id);
-        if (same_track && last_offset != last_offset_of_truth.end()) {
-          offset_step_sq += (offset - last_offset->second).squaredNorm();
-          ++r.offset_steps;
+        auto it = last_match.find(o.id);
+        if (it != last_match.end()) {
+          if (it->second.det_id != d.id) {
+            ++r.id_switches;
+          } else if (it->second.consecutive) {
+            offset_step_sq += (offset - it->second.offset).squaredNorm();
+            ++r.offset_steps;
+          }
         }
-        last_offset_of_truth[o.id] = offset;
+        last_match[o.id] = LastMatch{d.id, offset, true};
         if (o.has_velocity) {
           const double e2 = (d.velocity - o.velocity).squaredNorm();
           velocity_sq += e2;
@@ -124,7 +130,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         }
       } else {
         ++r.detection.fn;
-        last_offset_of_truth.erase(o.id);  // a step is only counted between consecutive matches
+        auto it = last_match.find(o.id);
+        if (it != last_match.end()) it->second.consecutive = false;  // steps need consecutive matches
       }
       // Danger per object-frame.
       const bool predicted = found && dets[m[i]].dangerous;
