@@ -35,11 +35,11 @@ void ConstantVelocityKalman::predict(double dt, double accel_std) {
 }
 
 void ConstantVelocityKalman::update(const Eigen::Vector3d& measured_position,
-                                    double measurement_variance) {
+                                    const Eigen::Vector3d& measurement_variance) {
   // H = [I 0]: S = P_pp + R, K = P H^T S^-1 = P.leftCols<3>() S^-1. S is 3x3 symmetric positive
   // definite: Eigen's closed-form inverse (a decomposition's solve() would go through the blocked
   // triangular solver, which queries the CPU cache sizes on every call).
-  const Eigen::Matrix3d R = Eigen::Matrix3d::Identity() * measurement_variance;
+  const Eigen::Matrix3d R = measurement_variance.asDiagonal();
   const Eigen::Matrix3d S = P_.topLeftCorner<3, 3>() + R;
   const Eigen::Matrix<double, 6, 3> K = P_.leftCols<3>() * S.inverse();
 

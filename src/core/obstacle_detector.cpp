@@ -81,7 +81,14 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
 
 MultiObjectTracker::UpdateResult ObstacleDetector::track(double stamp_s, StageTimes* times) {
   const double t0 = fastNowMs();
-  const auto result = tracker_.update(stamp_s, detections_);
+  // Faces at the region of interest's edge are cut there; a box edge lies up to one voxel (classic)
+  // or one grid cell (fast) inside the last point.
+  TrackerView view;
+  view.origin = sensor_origin_.head<2>();
+  view.region_min = params_.prep.roi_min.head<2>();
+  view.region_max = params_.prep.roi_max.head<2>();
+  view.region_tolerance_m = fast_ ? params_.fast.cell_m : params_.prep.voxel_leaf_m;
+  const auto result = tracker_.update(stamp_s, detections_, view);
   if (times) times->track_ms = fastNowMs() - t0;
   return result;
 }

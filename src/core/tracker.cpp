@@ -9,15 +9,103 @@ namespace {
 
 bool finiteCenter(const Box3D& box) { return box.center.allFinite(); }
 
-// Moves the box (centre and axis-aligned bounds) so that its centre is `center`.
-void moveBoxTo(Box3D& box, const Eigen::Vector3f& center) {
-  const Eigen::Vector3f delta = center - box.center;
-  box.center = center;
+// Moves the box (centre and axis-aligned bounds) by delta.
+void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
+  box.center += delta;
   box.min += delta;
   box.max += delta;
 }
 
+// Which part of the box the filter follows along one planar axis.
+enum class Face : std::uint8_t { kMiddle, kMin, kMax };
+
+float faceValue(const Box3D& box, int axis, Face face) {
+  switch (face) {
+    case Face::kMin: return box.min[axis];
+    case Face::kMax: return box.max[axis];
+    case Face::kMiddle: break;
+  }
+  return 0.5f * (box.min[axis] + box.max[axis]);
+}
+
+// TrackAnchor::kNearestFace along one axis of a detection: the face toward the sensor where the
+// sensor lies beyond the box, the middle where it lies within the box's span. A face at the
+// region of interest's edge is where the view ends, not the object: the other face instead (the
+// middle when both are cut).
+Face nearestFace(const Box3D& detection, int axis, const TrackerView& view) {
+  const float lo = detection.min[axis], hi = detection.max[axis], s = view.origin[axis];
+  const bool cut_lo = lo <= view.region_min[axis] + view.region_tolerance_m;
+  const bool cut_hi = hi >= view.region_max[axis] - view.region_tolerance_m;
+  if (cut_lo && cut_hi) return Face::kMiddle;
+  if (cut_lo) return Face::kMax;
+  if (cut_hi) return Face::kMin;
+  if (s < lo) return Face::kMin;
+  if (s > hi) return Face::kMax;
+  return Face::kMiddle;
+}
+
+// The position the filter measures for `detection` against the track's predicted box: the
+// filter's predicted reference point moved by as much as the anchor faces moved from the predicted
+// box to the detection (z: the middles). The same faces of both boxes are compared, so a change
+// of the visible extent on the other side moves nothing, and a switch to other faces is smooth.
+// An object whose footprint is shorter than params.face_min_extent_m both ways in both boxes is
+// seen whole (a pedestrian, a bin): its middles, two faces' noise averaged.
+Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
+                                    const Eigen::Vector3d& predicted_reference,
+                                    const TrackerParams& params, const TrackerView& view) {
+  const Eigen::Vector2f extent = (detection.max - detection.min)
+                                     .head<2>()
+                                     .cwiseMax((predicted.max - predicted.min).head<2>());
+  const bool faces = params.anchor == TrackAnchor::kNearestFace &&
+                     !(extent.maxCoeff() < params.face_min_extent_m);
+  Eigen::Vector3d z = predicted_reference;
+  for (int axis = 0; axis < 3; ++axis) {
+    Face face = Face::kMiddle;
+    if (faces && axis < 2) {
+      // Passing alongside, the detection spans the sensor and both its faces are seen; the
+      // predicted box's far face was not: keep the face it was followed by.
+      face = nearestFace(detection, axis, view);
+      if (face == Face::kMiddle) face = nearestFace(predicted, axis, view);
+    }
+    z[axis] += double(faceValue(detection, axis, face)) - double(faceValue(predicted, axis, face));
+  }
+  return z;
+}
+
+// Huber weighting of one update, per planar axis: an innovation more than `sigmas` standard
+// deviations of its predicted spread sqrt(P + R) away gets its measurement variance raised until
+// it is exactly that many, so a face that jumped (a stray return merged, a shadow) moves the
+// filter as a 3-sigma one would, not by the whole jump. 0 = off.
+Eigen::Vector3d robustVariance(const ConstantVelocityKalman& filter, const Eigen::Vector3d& z,
+                               double variance, double sigmas) {
+  Eigen::Vector3d R = Eigen::Vector3d::Constant(variance);
+  if (!(sigmas > 0.0)) return R;
+  const ConstantVelocityKalman::Matrix6& P = filter.covariance();
+  for (int axis = 0; axis < 2; ++axis) {
+    const double spread2 = P(axis, axis) + variance;
+    const double innovation = z[axis] - filter.position()[axis];
+    const double r2 = innovation * innovation / spread2;
+    if (r2 > sigmas * sigmas) R[axis] = spread2 * r2 / (sigmas * sigmas) - P(axis, axis);
+  }
+  return R;
+}
+
 }  // namespace
+
+const char* toString(TrackAnchor anchor) {
+  switch (anchor) {
+    case TrackAnchor::kCentre: return "centre";
+    case TrackAnchor::kNearestFace: return "nearest_face";
+    case TrackAnchor::kInvalid: break;
+  }
+  return "invalid";
+}
+
+TrackAnchor parseTrackAnchor(const std::string& name) {
+  if (name == "centre") return TrackAnchor::kCentre;
+  if (name == "nearest_face") return TrackAnchor::kNearestFace;
+  return TrackAnchor::kInvalid;
+}
 
 std::string validate(const TrackerParams& p) {
   std::ostringstream why;
@@ -37,6 +125,12 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.initial_velocity_std must be > 0 (got " << p.initial_velocity_std << ")";
   } else if (!(p.max_dt_s > 0.0) || !std::isfinite(p.max_dt_s)) {
     why << "tracker.max_dt_s must be > 0 (got " << p.max_dt_s << ")";
+  } else if (!(p.face_min_extent_m >= 0.0f) || !std::isfinite(p.face_min_extent_m)) {
+    why << "tracker.face_min_extent_m must be >= 0 (got " << p.face_min_extent_m << ")";
+  } else if (!(p.robust_sigma >= 0.0) || !std::isfinite(p.robust_sigma)) {
+    why << "tracker.robust_sigma must be >= 0 (got " << p.robust_sigma << ")";
+  } else if (p.anchor != TrackAnchor::kCentre && p.anchor != TrackAnchor::kNearestFace) {
+    why << "tracker.anchor must be \"centre\" or \"nearest_face\"";
   }
   return why.str();
 }
@@ -59,7 +153,8 @@ void MultiObjectTracker::reset() {
 }
 
 MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
-                                                            const std::vector<Box3D>& detections) {
+                                                            const std::vector<Box3D>& detections,
+                                                            const TrackerView& view) {
   UpdateResult result = UpdateResult::kOk;
   double dt = 0.0;
   if (has_stamp_) {
@@ -76,10 +171,11 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
   last_stamp_s_ = stamp_s;
   has_stamp_ = true;
 
-  // Predict: the filter, and the box follows the predicted centre.
+  // Predict: the filter, and the box moves as its reference point does.
   for (Track& track : tracks_) {
+    const Eigen::Vector3d before = track.filter.position();
     track.filter.predict(dt, params_.accel_std);
-    moveBoxTo(track.box, track.filter.position().cast<float>());
+    translateBox(track.box, (track.filter.position() - before).cast<float>());
   }
 
   // Cost matrix tracks x detections: planar centre distance / gate + weight * (1 - BEV IoU).
@@ -119,9 +215,12 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
     if (j >= 0) {
       const Box3D& detection = detections[j];
       detection_used_[j] = 1;
-      track.filter.update(detection.center.cast<double>(), measurement_variance);
+      const Eigen::Vector3d z = anchoredMeasurement(detection, track.box, track.filter.position(),
+                                                    params_, view);
+      track.filter.update(z, robustVariance(track.filter, z, measurement_variance,
+                                            params_.robust_sigma));
       track.box = detection;
-      track.box.center = track.filter.position().cast<float>();
+      translateBox(track.box, (track.filter.position() - z).cast<float>());
       ++track.hits;
       track.missed = 0;
     } else {

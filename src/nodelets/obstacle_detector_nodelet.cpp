@@ -126,6 +126,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
 
     StageTimes times;
     const double stamp_s = msg->header.stamp.toSec();
+    detector_->setSensorOrigin(to_target.translation());  // the cloud frame's origin
     MultiObjectTracker::UpdateResult result;
     if (detector_->fast()) {
       result = detector_->processFrom(

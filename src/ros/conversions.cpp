@@ -19,7 +19,7 @@ RawCloud toRawCloud(const sensor_msgs::PointCloud2& msg) {
 }
 
 void toObstacleMsg(const Track& track, Obstacle& out) {
-  const Eigen::Vector3d p = track.filter.position();
+  const Eigen::Vector3f& p = track.box.center;
   const Eigen::Vector3d v = track.velocity();
   out.id = track.id;
   out.pose.position.x = p.x();

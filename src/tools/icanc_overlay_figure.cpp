@@ -106,6 +106,7 @@ int main(int argc, char** argv) {
     const icanc::sim::LidarModel lidar = icanc::sim::LidarModel::byName(sc.lidar);
     std::mt19937_64 rng(sc.seed);
     icanc::ObstacleDetector detector(profile.detector);
+    detector.setSensorOrigin(sc.sensor_mount.translation());
     icanc::Cloud scan, vehicle;
     std::size_t k = 0;
     for (; k < sc.frames() && k / sc.rate_hz <= t_show + 1e-9; ++k) {
@@ -121,7 +122,7 @@ int main(int argc, char** argv) {
     for (const icanc::Track& track : detector.tracks()) {
       if (!track.confirmed || track.missed > 0) continue;
       icanc::ObjectKinematics kin;
-      kin.center = track.filter.position();
+      kin.center = track.box.center.cast<double>();
       kin.aabb_min = track.box.min.cast<double>();
       kin.aabb_max = track.box.max.cast<double>();
       kin.velocity = track.velocity();
@@ -129,7 +130,7 @@ int main(int argc, char** argv) {
       const icanc::DangerAssessment a = icanc::assessDanger(kin, profile.danger);
       icanc::OverlayObject o;
       o.id = track.id;
-      o.center = track.filter.position();
+      o.center = track.box.center.cast<double>();
       o.size = track.box.size.cast<double>();
       o.yaw = track.box.yaw;
       o.speed_mps = a.speed_mps;

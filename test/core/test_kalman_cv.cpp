@@ -109,6 +109,17 @@ TEST(KalmanCv, UpdateShrinksCovarianceAndPullsTowardsMeasurement) {
   EXPECT_LT(k.covariance()(3, 3), vel_var);
 }
 
+// A variance per axis: each axis takes its own scalar gain p / (p + r_axis).
+TEST(KalmanCv, PerAxisVarianceGivesEachAxisItsOwnGain) {
+  ConstantVelocityKalman k;
+  k.init(Eigen::Vector3d::Zero(), 1.0, 4.0);
+  k.update(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1.0, 3.0, 1.0 / 3.0));
+  EXPECT_NEAR(k.position().x(), 0.5, 1e-12);
+  EXPECT_NEAR(k.position().y(), 0.25, 1e-12);
+  EXPECT_NEAR(k.position().z(), 0.75, 1e-12);
+  EXPECT_NEAR(k.covariance()(1, 1), 1.0 * 3.0 / 4.0, 1e-12);
+}
+
 // Constant-velocity target, 10 Hz, Gaussian position noise 0.1 m; several seeds so that the bound
 // is not one lucky draw. The filter's velocity sigma after 30 frames is about 0.025 m/s here.
 TEST(KalmanCv, VelocityConvergesOnConstantVelocityTarget) {

@@ -29,6 +29,7 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_FLOAT_EQ(zebra.detector.cluster.tolerance_m, 0.6f);
   EXPECT_EQ(zebra.detector.cluster.min_points, 10);
   EXPECT_EQ(zebra.detector.cluster.max_points, 5000);
+  EXPECT_EQ(zebra.detector.tracker.anchor, TrackAnchor::kNearestFace);
   EXPECT_FLOAT_EQ(zebra.detector.prep.roi_max.x(), 30.0f);
   EXPECT_FALSE(zebra.light.illumination_enabled);  // the paper unless launched with a camera
   EXPECT_DOUBLE_EQ(zebra.light.illumination_stale_timeout_s, 1.0);
@@ -66,6 +67,16 @@ TEST(Profiles, BadValueNamesFileAndKey) {
     FAIL() << "a two-element roi_min was accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("prep/roi_min"), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(path);
+    out << "obstacle_detector:\n  tracker:\n    anchor: middle\n";
+  }
+  try {
+    loadProfile(path);
+    FAIL() << "an unknown tracker anchor was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("tracker.anchor"), std::string::npos) << e.what();
   }
   std::remove(path.c_str());
 }

@@ -39,7 +39,9 @@ TEST(LiveParams, ObstacleDetectorRoundTripKeepsTheRoi) {
   p.cluster.max_points = 1234;
   p.tracker.gate_distance_m = 3.5f;
   p.tracker.initial_velocity_std = 2.5;
+  p.tracker.anchor = TrackAnchor::kCentre;
   const ObstacleDetectorConfig c = toConfig<ObstacleDetectorConfig>(p);
+  EXPECT_EQ(c.tracker_anchor, "centre");
   EXPECT_DOUBLE_EQ(c.prep_voxel_leaf_m, 0.35f);
   EXPECT_EQ(c.ground_max_iterations, 77);
   const ObstacleDetectorParams q = fromConfig(c, ObstacleDetectorParams());
@@ -50,6 +52,7 @@ TEST(LiveParams, ObstacleDetectorRoundTripKeepsTheRoi) {
   EXPECT_EQ(q.cluster.max_points, 1234);
   EXPECT_FLOAT_EQ(q.tracker.gate_distance_m, 3.5f);
   EXPECT_DOUBLE_EQ(q.tracker.initial_velocity_std, 2.5);
+  EXPECT_EQ(q.tracker.anchor, TrackAnchor::kCentre);
   EXPECT_TRUE(fromConfig(c, p).prep.roi_max.isApprox(Eigen::Vector3f(12.0f, 3.0f, 2.0f)));
   EXPECT_TRUE(q.prep.roi_max.isApprox(ObstacleDetectorParams().prep.roi_max));
 }

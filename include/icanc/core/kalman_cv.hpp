@@ -18,7 +18,11 @@ class ConstantVelocityKalman {
   void predict(double dt, double accel_std);
 
   // Fuses a position measurement with isotropic variance [m^2].
-  void update(const Eigen::Vector3d& measured_position, double measurement_variance);
+  void update(const Eigen::Vector3d& measured_position, double measurement_variance) {
+    update(measured_position, Eigen::Vector3d::Constant(measurement_variance));
+  }
+  // Same, with a variance per axis [m^2].
+  void update(const Eigen::Vector3d& measured_position, const Eigen::Vector3d& measurement_variance);
 
   Eigen::Vector3d position() const { return x_.head<3>(); }
   Eigen::Vector3d velocity() const { return x_.tail<3>(); }

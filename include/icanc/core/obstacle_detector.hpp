@@ -64,6 +64,11 @@ class ObstacleDetector {
   const GroundResult& ground() const { return ground_; }  // classic path only
   const FastDetector* fast() const { return fast_.get(); }  // null unless method is kFast
 
+  // Where the sensor is in the frame the clouds are given in (the vehicle frame): the tracker
+  // measures the faces of each box nearest it (TrackAnchor). Default: the frame's origin. The
+  // nodelet sets it from the cloud's transform every frame.
+  void setSensorOrigin(const Eigen::Vector3f& origin) { sensor_origin_ = origin; }
+
   // Takes effect on the next frame; the tracks are kept.
   void setParams(const ObstacleDetectorParams& params);
   const ObstacleDetectorParams& params() const { return params_; }
@@ -80,6 +85,7 @@ class ObstacleDetector {
   Cloud nonground_;
   GroundResult ground_;
   std::vector<Box3D> detections_;
+  Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();
 };
 
 template <class Source>

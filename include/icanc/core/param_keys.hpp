@@ -39,6 +39,11 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/measurement_std_m", p.tracker.measurement_std_m);
   r("tracker/initial_velocity_std", p.tracker.initial_velocity_std);
   r("tracker/max_dt_s", p.tracker.max_dt_s);
+  r("tracker/robust_sigma", p.tracker.robust_sigma);
+  std::string anchor = toString(p.tracker.anchor);  // "centre" | "nearest_face"
+  r("tracker/anchor", anchor);
+  p.tracker.anchor = parseTrackAnchor(anchor);
+  r("tracker/face_min_extent_m", p.tracker.face_min_extent_m);
   r("fast/cell_m", p.fast.cell_m);
   r("fast/link_m", p.fast.link_m);
   r("fast/sectors", p.fast.sectors);
