@@ -99,11 +99,26 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (inScope(d.center, params)) dets.push_back(d);
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
 
-    std::vector<bool> det_used(dets.size(), false);
+    // Detections left over by the one-to-one matching that lie within the match distance of a
+    // true object's footprint are fragments of it (a car's roof scan line, a split wall): they
+    // count for its danger, not as false alarms of their own.
+    std::vector<bool> det_used(dets.size(), false), flagged(truth.size(), false);
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      if (m[i] >= 0) det_used[m[i]] = true;
+    std::vector<int> fragment_of(dets.size(), -1);
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      if (det_used[j]) continue;
+      double nearest = params.match_distance_m;
+      for (std::size_t i = 0; i < truth.size(); ++i) {
+        const double d = distanceToFootprint(truth[i], dets[j].center);
+        if (d <= nearest) nearest = d, fragment_of[j] = static_cast<int>(i);
+      }
+      if (fragment_of[j] >= 0 && dets[j].dangerous) flagged[fragment_of[j]] = true;
+    }
+
     for (std::size_t i = 0; i < truth.size(); ++i) {
       const TruthObject& o = truth[i];
       const bool found = m[i] >= 0;
-      if (found) det_used[m[i]] = true;
       // Detection and tracking.
       if (found) {
         ++r.detection.tp;
@@ -133,8 +148,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         auto it = last_match.find(o.id);
         if (it != last_match.end()) it->second.consecutive = false;  // steps need consecutive matches
       }
-      // Danger per object-frame.
-      const bool predicted = found && dets[m[i]].dangerous;
+      // Danger per object-frame: its detection or one of its fragments flagged.
+      const bool predicted = (found && dets[m[i]].dangerous) || flagged[i];
       if (o.dangerous && predicted) ++r.danger.tp;
       else if (o.dangerous) ++r.danger.fn;
       else if (predicted) ++r.danger.fp;
@@ -143,7 +158,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     for (std::size_t j = 0; j < dets.size(); ++j) {
       if (det_used[j]) continue;
       ++r.detection.fp;
-      if (dets[j].dangerous) {
+      if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;
       }

@@ -72,6 +72,28 @@ TEST(Evaluate, UnmatchedDangerousDetectionIsAFalseAlarmOnlyInScope) {
   EXPECT_EQ(r.detection.fp, 2u);
 }
 
+// Two clusters on one car (its rear face, and a roof scan line at a fixed range from the sensor):
+// the matching takes the one whose centre is nearer the true centre, the other is a fragment. The
+// car counts as flagged when either is dangerous, once; a fragment flagged on a safe object is that
+// object's false positive, not a false alarm of its own; detection still counts the extra cluster.
+TEST(Evaluate, AFragmentOfATrueObjectCountsForItsDanger) {
+  TruthObject car = truth(1, 18.0, -2.2, true, 1.0), parked = truth(2, 30.0, -4.0, false);
+  car.size = parked.size = Eigen::Vector2d(4.7, 1.9);
+  std::vector<EvalFrame> frames{
+      frame(0.0, true, {car, parked},
+            {det(10, 15.7, -2.2, true), det(11, 16.6, -2.2, false),     // the car: rear, roof line
+             det(20, 30.0, -4.0, false), det(21, 28.0, -4.0, true),     // the parked car, a fragment
+             det(30, 18.0, 3.0, true)})};                               // nothing there
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.danger.tp, 1u);  // the car, through its rear face (the roof line is matched)
+  EXPECT_EQ(r.danger.fn, 0u);
+  EXPECT_EQ(r.danger.fp, 2u);  // the parked car through its fragment, and the detection at y = 3
+  EXPECT_EQ(r.false_alarms_unmatched, 1u);
+  EXPECT_EQ(r.danger.tn, 0u);
+  EXPECT_EQ(r.detection.tp, 2u);
+  EXPECT_EQ(r.detection.fp, 3u);
+}
+
 TEST(Evaluate, OptimalMatchingNotGreedy) {
   // True objects at x = 10.0 and 11.4, detections at 10.7 and 12.8 (gate 1.5). Nearest-first
   // greedy pairs 11.4 with 10.7 (0.7 m) and then 10.0 has nothing within the gate; the optimal

@@ -62,8 +62,11 @@ struct Confusion {
 
 struct EvalReport {
   std::size_t frames = 0, processed = 0;
-  Confusion danger;                 // per object-frame (eligible true objects + false alarms)
-  std::uint64_t false_alarms_unmatched = 0;  // dangerous detections with no true object (in fp)
+  // Per object-frame: eligible true objects (flagged when their matched detection, or a fragment
+  // of them, is dangerous) and false alarms. A fragment is a detection left over by the one-to-one
+  // matching within EvalParams::match_distance_m of a true object's footprint.
+  Confusion danger;
+  std::uint64_t false_alarms_unmatched = 0;  // dangerous detections of no true object (in fp)
   std::size_t episodes = 0, caught = 0;      // danger episodes per true id
   std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
   Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
