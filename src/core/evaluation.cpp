@@ -111,7 +111,10 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       double nearest = params.match_distance_m;
       for (std::size_t i = 0; i < truth.size(); ++i) {
         const double d = distanceToFootprint(truth[i], dets[j].center);
-        if (d <= nearest) nearest = d, fragment_of[j] = static_cast<int>(i);
+        if (d <= nearest) {
+          nearest = d;
+          fragment_of[j] = static_cast<int>(i);
+        }
       }
       if (fragment_of[j] >= 0 && dets[j].dangerous) flagged[fragment_of[j]] = true;
     }
