@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "icanc/core/hungarian.hpp"
+#include "icanc/core/light_controller.hpp"
 
 namespace icanc {
 namespace {
@@ -39,7 +40,33 @@ std::vector<int> match(const std::vector<TruthObject>& truth,
   return solveAssignment(cost);
 }
 
+bool onUnscoredObject(const std::vector<TruthObject>& all_truth, const DetectedObject& det,
+                      const EvalParams& params) {
+  for (const TruthObject& o : all_truth)
+    if (distanceToFootprint(o, det.center) <= params.match_distance_m) return true;
+  return false;
+}
+
+void count(Confusion& c, Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kTruePositive: ++c.tp; break;
+    case Outcome::kFalsePositive: ++c.fp; break;
+    case Outcome::kFalseNegative: ++c.fn; break;
+    case Outcome::kTrueNegative: ++c.tn; break;
+  }
+}
+
 }  // namespace
+
+const char* toString(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kTruePositive: return "TP";
+    case Outcome::kFalsePositive: return "FP";
+    case Outcome::kFalseNegative: return "FN";
+    case Outcome::kTrueNegative: return "TN";
+  }
+  return "?";
+}
 
 double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point) {
   const Eigen::Vector2d d = point - truth.center;
@@ -54,7 +81,8 @@ double Confusion::recall() const { return ratio(tp, tp + fn); }
 double Confusion::accuracy() const { return ratio(tp + tn, tp + tn + fp + fn); }
 double Confusion::f1() const { return ratio(2.0 * tp, 2.0 * tp + fp + fn); }
 
-EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params) {
+EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
+                    std::vector<ScoredRow>* rows) {
   EvalReport r;
   r.frames = frames.size();
   std::vector<double> latencies;
@@ -68,6 +96,13 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     bool consecutive = false;
   };
   std::map<std::uint32_t, LastMatch> last_match;
+  std::vector<double> near_bias, side_bias;
+  LightControllerParams lamp;
+  lamp.tau_s = params.lamp_tau_s;
+  lamp.recheck_below_s = params.lamp_recheck_below_s;
+  lamp.stale_timeout_s = 0.0;  // frames are given, not awaited
+  LightController truth_lamp(lamp);
+  std::size_t truth_on_frames = 0;
 
   struct Episode {
     bool open = false;
@@ -89,6 +124,11 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     if (!f.processed) continue;
     ++r.processed;
     on_frames += f.lamp_on;
+    bool any_truly_dangerous = false;
+    for (const TruthObject& o : f.truth) any_truly_dangerous |= o.dangerous;
+    truth_lamp.tick(f.t);
+    truth_lamp.onInput(f.t, any_truly_dangerous);
+    truth_on_frames += truth_lamp.on();
     latencies.push_back(f.latency_ms);
 
     std::vector<TruthObject> truth;
@@ -102,7 +142,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     // Detections left over by the one-to-one matching that lie within the match distance of a
     // true object's footprint are fragments of it (a car's roof scan line, a split wall): they
     // count for its danger, not as false alarms of their own.
-    std::vector<bool> det_used(dets.size(), false), flagged(truth.size(), false);
+    std::vector<bool> det_used(dets.size(), false);
+    std::vector<int> flagged_by(truth.size(), -1);  // a dangerous fragment of each true object
     for (std::size_t i = 0; i < truth.size(); ++i)
       if (m[i] >= 0) det_used[m[i]] = true;
     std::vector<int> fragment_of(dets.size(), -1);
@@ -116,7 +157,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           fragment_of[j] = static_cast<int>(i);
         }
       }
-      if (fragment_of[j] >= 0 && dets[j].dangerous) flagged[fragment_of[j]] = true;
+      if (fragment_of[j] >= 0 && dets[j].dangerous && flagged_by[fragment_of[j]] < 0)
+        flagged_by[fragment_of[j]] = static_cast<int>(j);
     }
 
     for (std::size_t i = 0; i < truth.size(); ++i) {
@@ -137,6 +179,15 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           }
         }
         last_match[o.id] = LastMatch{d.id, offset, true};
+        if (d.has_aabb) {
+          const Eigen::Vector2d half = 0.5 * o.size.cwiseAbs();
+          const double c = std::abs(std::cos(o.yaw)), s = std::abs(std::sin(o.yaw));
+          const Eigen::Vector2d reach(c * half.x() + s * half.y(), s * half.x() + c * half.y());
+          const Eigen::Vector2d tmin = o.center - reach, tmax = o.center + reach;
+          near_bias.push_back(o.center.x() >= 0.0 ? d.aabb_min.x() - tmin.x() : tmax.x() - d.aabb_max.x());
+          side_bias.push_back(d.aabb_min.y() - tmin.y());
+          side_bias.push_back(tmax.y() - d.aabb_max.y());
+        }
         if (o.has_velocity) {
           const double e2 = (d.velocity - o.velocity).squaredNorm();
           velocity_sq += e2;
@@ -152,18 +203,32 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         if (it != last_match.end()) it->second.consecutive = false;  // steps need consecutive matches
       }
       // Danger per object-frame: its detection or one of its fragments flagged.
-      const bool predicted = (found && dets[m[i]].dangerous) || flagged[i];
-      if (o.dangerous && predicted) ++r.danger.tp;
-      else if (o.dangerous) ++r.danger.fn;
-      else if (predicted) ++r.danger.fp;
-      else ++r.danger.tn;
+      const bool by_match = found && dets[m[i]].dangerous;
+      const bool predicted = by_match || flagged_by[i] >= 0;
+      const Outcome outcome = o.dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
+                                          : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
+      count(r.danger, outcome);
+      if (rows) {
+        ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};
+        const int j = by_match || !predicted ? m[i] : flagged_by[i];
+        if (j >= 0) {
+          row.has_detection = true;
+          row.fragment = j != m[i];
+          row.detection = dets[j];
+        }
+        rows->push_back(row);
+      }
     }
     for (std::size_t j = 0; j < dets.size(); ++j) {
       if (det_used[j]) continue;
+      // On a true object that is not scored (too few returns, just out of range or view): not
+      // scored either, as KITTI's DontCare.
+      if (fragment_of[j] < 0 && onUnscoredObject(f.truth, dets[j], params)) continue;
       ++r.detection.fp;
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;
+        if (rows) rows->push_back(ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j]});
       }
     }
 
@@ -189,11 +254,15 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   r.velocity_rmse_settled =
       r.velocity_samples_settled ? std::sqrt(velocity_sq_settled / r.velocity_samples_settled) : 0.0;
   r.offset_step_rms_m = r.offset_steps ? std::sqrt(offset_step_sq / r.offset_steps) : 0.0;
+  r.box_bias_near_m = percentile(near_bias, 0.5);
+  r.box_bias_side_m = percentile(side_bias, 0.5);
+  r.box_bias_samples = near_bias.size();
   r.latency_p50_ms = percentile(latencies, 0.50);
   r.latency_p90_ms = percentile(latencies, 0.90);
   r.latency_p99_ms = percentile(latencies, 0.99);
   r.latency_max_ms = percentile(latencies, 1.0);
   r.duty_cycle = ratio(on_frames, r.processed);
+  r.truth_duty_cycle = ratio(truth_on_frames, r.processed);
   return r;
 }
 
@@ -209,8 +278,9 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
       "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
+      "  true box beyond the detected one (median): near face %.3f m, sides %.3f m (n %zu)\n"
       "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
-      "lamp duty cycle %.1f %%\n",
+      "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n",
       title.c_str(), r.frames, r.processed,
       static_cast<unsigned long long>(r.danger.tp), static_cast<unsigned long long>(r.danger.fp),
       static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
@@ -219,8 +289,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
       r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
-      r.offset_steps, r.latency_p50_ms, r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
-      100 * r.duty_cycle);
+      r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples, r.latency_p50_ms, r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
+      100 * r.duty_cycle, 100 * r.truth_duty_cycle);
   return buf;
 }
 
@@ -241,10 +311,44 @@ std::string toJson(const EvalReport& r, const std::string& name) {
   j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
     << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
     << ", \"offset_step_rms_m\": " << r.offset_step_rms_m
+    << ", \"box_bias_near_m\": " << r.box_bias_near_m << ", \"box_bias_side_m\": " << r.box_bias_side_m
     << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
     << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
-    << ", \"duty_cycle\": " << r.duty_cycle << "}";
+    << ", \"duty_cycle\": " << r.duty_cycle << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << "}";
   return j.str();
+}
+
+std::string toCsv(const std::vector<ScoredRow>& rows) {
+  std::ostringstream c;
+  c << "t,outcome,truth_id,truth_type,truth_x,truth_y,truth_length,truth_width,truth_yaw,"
+       "truth_vx,truth_vy,truth_ttc_s,"
+       "det_id,det_fragment,det_dangerous,det_x,det_y,det_vx,det_vy,det_vx_std,det_vy_std,"
+       "det_x_min,det_x_max,det_y_min,det_y_max,det_age\n";
+  char buf[512];
+  for (const ScoredRow& row : rows) {
+    std::snprintf(buf, sizeof(buf), "%.3f,%s,", row.t, toString(row.outcome));
+    c << buf;
+    if (row.has_truth) {
+      const TruthObject& o = row.truth;
+      std::snprintf(buf, sizeof(buf), "%u,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.3f,%.3f,%.2f,", o.id,
+                    o.type.c_str(), o.center.x(), o.center.y(), o.size.x(), o.size.y(), o.yaw,
+                    o.velocity.x(), o.velocity.y(), o.time_to_corridor);
+      c << buf;
+    } else {
+      c << ",,,,,,,,,,";
+    }
+    if (row.has_detection) {
+      const DetectedObject& d = row.detection;
+      std::snprintf(buf, sizeof(buf), "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n",
+                    d.id, row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
+                    d.velocity.x(), d.velocity.y(), d.velocity_std.x(), d.velocity_std.y(),
+                    d.aabb_min.x(), d.aabb_max.x(), d.aabb_min.y(), d.aabb_max.y(), d.age);
+      c << buf;
+    } else {
+      c << ",,,,,,,,,,,,,\n";
+    }
+  }
+  return c.str();
 }
 
 }  // namespace icanc

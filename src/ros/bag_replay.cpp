@@ -56,6 +56,10 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
     d.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
     d.dangerous = o.dangerous;
     d.age = o.age;
+    d.has_aabb = true;
+    d.aabb_min = Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y);
+    d.aabb_max = Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y);
+    d.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
     out.push_back(d);
   }
   return out;

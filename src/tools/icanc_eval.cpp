@@ -3,7 +3,8 @@
 // Run it with launch/eval.launch, which starts the same graph as on the vehicle:
 //   roslaunch icanc eval.launch bag:=X.bag vehicle:=zebra [json:=out.json] [fov_deg:=45] [rate:=0]
 // Options: BAG [--points /points] [--truth /ground_truth] [--ns /icanc] [--rate R] [--fov DEG]
-//          [--min-points N] [--match M] [--range M] [--json FILE] [--name NAME]
+//          [--min-points N] [--match M] [--range M] [--json FILE] [--rows FILE.csv] [--name NAME]
+// --rows writes every scored object-frame (outcome, truth, the detection that decided it) as CSV.
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
   icanc::ReplayOptions replay;
   icanc::EvalParams params;
   replay.bag = args[1];
-  std::string json, name = replay.bag.substr(replay.bag.rfind('/') + 1);
+  std::string json, rows_csv, name = replay.bag.substr(replay.bag.rfind('/') + 1);
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".bag") == 0) name.resize(name.size() - 4);
   for (std::size_t i = 2; i + 1 < args.size(); i += 2) {
     const std::string& k = args[i];
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
     else if (k == "--match") params.match_distance_m = std::atof(v.c_str());
     else if (k == "--range") params.max_range_m = std::atof(v.c_str());
     else if (k == "--json") json = v;
+    else if (k == "--rows") rows_csv = v;
     else if (k == "--name") name = v;
     else {
       std::fprintf(stderr, "icanc_eval: unknown option %s\n", k.c_str());
@@ -46,16 +48,25 @@ int main(int argc, char** argv) {
     }
   }
   ros::NodeHandle nh;
+  // The graph's light controller, for the duty cycle of a perfect danger detector.
+  nh.param(replay.ns + "/light_controller/tau_s", params.lamp_tau_s, params.lamp_tau_s);
+  nh.param(replay.ns + "/light_controller/recheck_below_s", params.lamp_recheck_below_s,
+           params.lamp_recheck_below_s);
   ros::AsyncSpinner spinner(2);
   spinner.start();
   try {
     const auto frames = icanc::replayBag(nh, replay);
-    const icanc::EvalReport report = icanc::evaluate(frames, params);
+    std::vector<icanc::ScoredRow> rows;
+    const icanc::EvalReport report = icanc::evaluate(frames, params, &rows);
     std::printf("%s", icanc::toTable(report, name).c_str());
     std::fflush(stdout);
     if (!json.empty()) {
       std::ofstream(json) << icanc::toJson(report, name) << "\n";
       std::printf("wrote %s\n", json.c_str());
+    }
+    if (!rows_csv.empty()) {
+      std::ofstream(rows_csv) << icanc::toCsv(rows);
+      std::printf("wrote %s\n", rows_csv.c_str());
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icanc_eval: %s\n", e.what());

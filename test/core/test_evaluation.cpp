@@ -1,4 +1,5 @@
 // Pins the evaluation's counting on hand-built frames.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -72,6 +73,24 @@ TEST(Evaluate, UnmatchedDangerousDetectionIsAFalseAlarmOnlyInScope) {
   EXPECT_EQ(r.detection.fp, 2u);
 }
 
+// A detection on a true object that is not scored (too few returns; just beyond the range) is not
+// scored either: no false alarm, no detection false positive. One beside it still is.
+TEST(Evaluate, ADetectionOfAnUnscoredObjectIsNotScored) {
+  TruthObject sparse = truth(1, 24.0, -1.7, true, 1.0), far = truth(2, 40.6, 0.0, false);
+  sparse.num_points = 4;
+  const std::vector<EvalFrame> frames{frame(0.0, true, {sparse, far},
+                                            {det(10, 24.1, -1.6, true), det(11, 39.8, 0.0, true),
+                                             det(12, 24.0, 1.0, true)})};
+  std::vector<ScoredRow> rows;
+  const EvalReport r = evaluate(frames, EvalParams(), &rows);
+  EXPECT_EQ(r.danger.fp, 1u);  // only the detection 2.7 m beside the sparse object
+  EXPECT_EQ(r.false_alarms_unmatched, 1u);
+  EXPECT_EQ(r.danger.tp + r.danger.fn + r.danger.tn, 0u);
+  EXPECT_EQ(r.detection.fp, 1u);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].detection.id, 12u);
+}
+
 // Two clusters on one car (its rear face, and a roof scan line at a fixed range from the sensor):
 // the matching takes the one whose centre is nearer the true centre, the other is a fragment. The
 // car counts as flagged when either is dangerous, once; a fragment flagged on a safe object is that
@@ -92,6 +111,91 @@ TEST(Evaluate, AFragmentOfATrueObjectCountsForItsDanger) {
   EXPECT_EQ(r.danger.tn, 0u);
   EXPECT_EQ(r.detection.tp, 2u);
   EXPECT_EQ(r.detection.fp, 3u);
+}
+
+// The same frame as rows: one per scored object-frame, naming the detection that decided it (the
+// match, or the dangerous fragment that flagged a true object whose match was safe).
+TEST(Evaluate, RowsExplainEachCountedObjectFrame) {
+  TruthObject car = truth(1, 18.0, -2.2, true, 1.0), parked = truth(2, 30.0, -4.0, false);
+  car.size = parked.size = Eigen::Vector2d(4.7, 1.9);
+  car.type = "car";
+  std::vector<EvalFrame> frames{
+      frame(0.5, true, {car, parked, truth(3, 8.0, 6.0, true, 2.0)},
+            {det(10, 15.7, -2.2, true), det(11, 16.6, -2.2, false), det(20, 30.0, -4.0, false),
+             det(21, 28.0, -4.0, true), det(30, 18.0, 3.0, true), det(31, 25.0, 9.0, false)})};
+  std::vector<ScoredRow> rows;
+  const EvalReport r = evaluate(frames, EvalParams(), &rows);
+  ASSERT_EQ(rows.size(), 4u);  // three true objects and the false alarm at y = 3
+  Confusion c;
+  for (const ScoredRow& row : rows) {
+    EXPECT_DOUBLE_EQ(row.t, 0.5);
+    c.tp += row.outcome == Outcome::kTruePositive;
+    c.fp += row.outcome == Outcome::kFalsePositive;
+    c.fn += row.outcome == Outcome::kFalseNegative;
+    c.tn += row.outcome == Outcome::kTrueNegative;
+  }
+  EXPECT_EQ(c.tp, r.danger.tp);
+  EXPECT_EQ(c.fp, r.danger.fp);
+  EXPECT_EQ(c.fn, r.danger.fn);
+  EXPECT_EQ(c.tn, r.danger.tn);
+
+  EXPECT_EQ(rows[0].outcome, Outcome::kTruePositive);  // the car, by its rear face's flag
+  EXPECT_EQ(rows[0].truth.id, 1u);
+  EXPECT_TRUE(rows[0].has_detection);
+  EXPECT_EQ(rows[0].detection.id, 10u);
+  EXPECT_TRUE(rows[0].fragment);  // the roof line (11) is the match; the rear face flagged it
+  EXPECT_EQ(rows[1].outcome, Outcome::kFalsePositive);  // the parked car, by its fragment 21
+  EXPECT_EQ(rows[1].detection.id, 21u);
+  EXPECT_TRUE(rows[1].fragment);
+  EXPECT_EQ(rows[2].outcome, Outcome::kFalseNegative);  // nothing seen at (8, 6)
+  EXPECT_FALSE(rows[2].has_detection);
+  EXPECT_EQ(rows[3].outcome, Outcome::kFalsePositive);  // the detection of nothing
+  EXPECT_FALSE(rows[3].has_truth);
+  EXPECT_EQ(rows[3].detection.id, 30u);
+
+  const std::string csv = toCsv(rows);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);  // header and four rows
+  EXPECT_NE(csv.find("\n0.500,TP,1,car,18.000,-2.200,4.700,1.900,0.0000,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0.500,FN,3,,8.000,6.000,0.000,0.000,0.0000,-1.000,0.000,2.00,,,,"),
+            std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0.500,FP,,,,,,,,,,,30,0,1,18.000,3.000,"), std::string::npos) << csv;
+  // Every line has the header's number of fields.
+  std::size_t start = 0;
+  while (start < csv.size()) {
+    const std::size_t end = csv.find('\n', start);
+    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 25) << csv.substr(start, end - start);
+    start = end + 1;
+  }
+}
+
+// How far the true footprint reaches beyond the detected box: the face toward the vehicle along x
+// (x_min ahead, x_max behind) and both faces along y, of a yawed true box by its axis-aligned
+// bounds; medians; a detection without a box is not counted.
+TEST(Evaluate, BoxBiasOfTheTrueFootprintBeyondTheDetectedBox) {
+  const auto sized = [](std::uint32_t id, double x, double y, double yaw) {
+    TruthObject o = truth(id, x, y, false);
+    o.size = Eigen::Vector2d(4.0, 2.0);
+    o.yaw = yaw;
+    return o;
+  };
+  const auto boxed = [](std::uint32_t id, double x, double y, double x0, double x1, double y0, double y1) {
+    DetectedObject d = det(id, x, y, false);
+    d.has_aabb = true;
+    d.aabb_min = Eigen::Vector2d(x0, y0);
+    d.aabb_max = Eigen::Vector2d(x1, y1);
+    return d;
+  };
+  const std::vector<EvalFrame> frames{frame(
+      0.0, false,
+      {sized(1, 10, 0, 0.0), sized(2, -10, 3, 0.0), sized(3, 5, 10, M_PI / 2), sized(4, 20, -5, 0.0)},
+      {boxed(11, 10, 0, 8.2, 12.0, -0.8, 0.9),      // near 0.2, sides 0.2 and 0.1
+       boxed(12, -10, 3, -12.0, -8.3, 2.0, 3.9),    // behind: near 0.3, sides 0 and 0.1
+       boxed(13, 5, 10, 4.4, 6.0, 8.0, 11.5),       // yawed 90 deg: near 0.4, sides 0 and 0.5
+       det(14, 20, -5, false)})};                    // no box
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.box_bias_samples, 3u);
+  EXPECT_NEAR(r.box_bias_near_m, 0.3, 1e-9);
+  EXPECT_NEAR(r.box_bias_side_m, 0.1, 1e-9);
 }
 
 TEST(Evaluate, OptimalMatchingNotGreedy) {
@@ -154,6 +258,32 @@ TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
   EXPECT_NEAR(r.latency_max_ms, 20.0, 1e-9);
   EXPECT_NE(toTable(r, "t").find("1 caught of 2"), std::string::npos);
   EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
+}
+
+// The duty cycle of a perfect danger detector: the paper's light controller given the ground
+// truth's danger each frame. 50 frames at 10 Hz, danger at t = 1.0 only: on for tau; a second
+// danger at t = 2.5, with 0.5 s left (<= recheck_below_s), restarts the timer.
+TEST(Evaluate, TruthDutyCycleIsTheLightControllerOnTheTruth) {
+  const auto run = [](double tau, std::vector<double> danger_at) {
+    std::vector<EvalFrame> frames;
+    for (int i = 0; i < 50; ++i) {
+      const double t = 0.1 * i;
+      bool dangerous = false;
+      for (double d : danger_at) dangerous |= std::abs(t - d) < 1e-6;
+      frames.push_back(frame(t, false, {truth(1, 10, 3, dangerous, dangerous ? 1.0 : -1.0)}, {}));
+    }
+    EvalParams p;
+    p.lamp_tau_s = tau;
+    p.lamp_recheck_below_s = 1.0;
+    const EvalReport r = evaluate(frames, p);
+    EXPECT_DOUBLE_EQ(r.duty_cycle, 0.0);  // the graph's lamp stayed off throughout
+    return r.truth_duty_cycle;
+  };
+  EXPECT_NEAR(run(2.0, {1.0}), 20.0 / 50, 1.0 / 50 + 1e-9);       // 1.0 .. 3.0
+  EXPECT_NEAR(run(3.0, {1.0}), 30.0 / 50, 1.0 / 50 + 1e-9);       // 1.0 .. 4.0
+  EXPECT_NEAR(run(2.0, {1.0, 2.5}), 35.0 / 50, 1.0 / 50 + 1e-9);  // reset at 2.5: .. 4.5
+  EXPECT_NEAR(run(2.0, {1.0, 1.5}), 20.0 / 50, 1.0 / 50 + 1e-9);  // 1.5 s left: ignored
+  EXPECT_DOUBLE_EQ(run(2.0, {}), 0.0);
 }
 
 // The velocity error's two diagnostics: a track's box whose centre jumps 0.2 m sideways every

@@ -31,6 +31,12 @@ struct DetectedObject {
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
   bool dangerous = false;
   std::uint32_t age = 0;  // frames since the track's birth (icanc/Obstacle age; 0 unknown)
+  // What the danger model saw (the rows; the box bias): axis-aligned x, y bounds (when has_aabb)
+  // and the filter's 1-sigma velocity uncertainty along x and y.
+  bool has_aabb = false;
+  Eigen::Vector2d aabb_min = Eigen::Vector2d::Zero();
+  Eigen::Vector2d aabb_max = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity_std = Eigen::Vector2d::Zero();
 };
 
 struct EvalFrame {
@@ -50,6 +56,10 @@ struct EvalParams {
   double max_range_m = 40.0;      // true objects / detections farther away are not scored
   double fov_half_angle_deg = 180.0;  // scored sector around +x (KITTI labels: 45)
   std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
+  // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
+  // a perfect danger detector would have had (EvalReport::truth_duty_cycle).
+  double lamp_tau_s = 2.0;
+  double lamp_recheck_below_s = 1.0;
 };
 
 struct Confusion {
@@ -66,7 +76,10 @@ struct EvalReport {
   // of them, is dangerous) and false alarms. A fragment is a detection left over by the one-to-one
   // matching within EvalParams::match_distance_m of a true object's footprint.
   Confusion danger;
-  std::uint64_t false_alarms_unmatched = 0;  // dangerous detections of no true object (in fp)
+  // Dangerous detections of no true object (in fp). A detection within the match distance of a
+  // true object that is not scored (fewer than min_points returns, out of range or view) is not
+  // scored either (as KITTI's DontCare), in danger and detection alike.
+  std::uint64_t false_alarms_unmatched = 0;
   std::size_t episodes = 0, caught = 0;      // danger episodes per true id
   std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
   Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
@@ -81,17 +94,49 @@ struct EvalReport {
   std::size_t velocity_samples_settled = 0;
   double offset_step_rms_m = 0.0;
   std::size_t offset_steps = 0;
+  // How far the true footprint (its axis-aligned bounds) reaches beyond the matched detection's
+  // box, median over matched detections with a box: the face toward the vehicle along x, and the
+  // two faces along y. Labelled boxes are larger than what a LiDAR sees: this is what
+  // danger_detector/predictive/footprint_margin_m makes up for (KITTI 0.19 / 0.25 m).
+  double box_bias_near_m = 0.0;
+  double box_bias_side_m = 0.0;
+  std::size_t box_bias_samples = 0;
   double latency_p50_ms = 0, latency_p90_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   double duty_cycle = 0.0;          // fraction of processed frames with the lamp on
+  // The same for a perfect danger detector: the light controller (EvalParams::lamp_*) given, each
+  // processed frame, whether any true object is dangerous. What danger there is keeps the lamp on
+  // at least this long; a lower duty_cycle means missed or late warnings.
+  double truth_duty_cycle = 0.0;
+};
+
+// One object-frame of the danger score and what decided it: an eligible true object (with the
+// detection matched to it, or the dangerous fragment that flagged it), or a dangerous detection of
+// no true object (a false alarm). Counting the rows by outcome gives EvalReport::danger.
+enum class Outcome : std::uint8_t { kTruePositive, kFalsePositive, kFalseNegative, kTrueNegative };
+const char* toString(Outcome outcome);  // "TP", "FP", "FN", "TN"
+
+struct ScoredRow {
+  double t = 0.0;
+  Outcome outcome = Outcome::kTrueNegative;
+  bool has_truth = false;   // false: a false alarm of no true object
+  TruthObject truth;
+  bool has_detection = false;  // the matched detection, else the flagging fragment, else none
+  bool fragment = false;       // the detection is a fragment of the true object, not its match
+  DetectedObject detection;
 };
 
 // Distance from a point to the oriented footprint of a true object (0 when inside).
 double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point);
 
-EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params);
+// `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger.
+EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
+                    std::vector<ScoredRow>* rows = nullptr);
 
 // A fixed-width table like the paper's, and the same figures as JSON.
 std::string toTable(const EvalReport& report, const std::string& title);
 std::string toJson(const EvalReport& report, const std::string& name);
+// The rows as CSV with a header line (one object-frame per line; empty fields where no truth or
+// no detection).
+std::string toCsv(const std::vector<ScoredRow>& rows);
 
 }  // namespace icanc
