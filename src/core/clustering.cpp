@@ -23,7 +23,8 @@ std::string validate(const ClusterParams& params) {
   return why.str();
 }
 
-std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params) {
+std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
+                                float footprint_cell_m) {
   std::vector<Box3D> boxes;
   if (cloud.empty()) return boxes;
 
@@ -43,7 +44,7 @@ std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params)
 
   boxes.reserve(clusters.size());
   for (const pcl::PointIndices& cluster : clusters) {
-    boxes.push_back(fitBox(cloud, &cluster.indices));
+    boxes.push_back(fitBox(cloud, &cluster.indices, footprint_cell_m));
   }
   // PCL already returns clusters largest first; a stable sort makes that a guarantee here
   // while keeping PCL's order among equal sizes.

@@ -51,6 +51,8 @@ std::string validate(const DangerParams& params) {
     why << "danger.velocity_std_k must be >= 0 (got " << params.velocity_std_k << ")";
   else if (!(params.uncertainty_cap_m >= 0.0))
     why << "danger.uncertainty_cap_m must be >= 0 (got " << params.uncertainty_cap_m << ")";
+  else if (!(params.footprint_margin_m >= 0.0))
+    why << "danger.footprint_margin_m must be >= 0 (got " << params.footprint_margin_m << ")";
   else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
     why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
   else if (params.on_frames < 1)
@@ -103,12 +105,22 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
   for (int i = 0; i <= steps; ++i) {
     const double t = std::min(i * params.time_step_s, params.reaction_time_s);
-    const double grow_x = std::min(params.velocity_std_k * sigma_x * t, params.uncertainty_cap_m);
-    const double grow_y = std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
+    const double grow_x = params.footprint_margin_m +
+                          std::min(params.velocity_std_k * sigma_x * t, params.uncertainty_cap_m);
+    const double grow_y = params.footprint_margin_m +
+                          std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
+    // The corridor, moved back by the object's motion and grown by its uncertainty, against the
+    // object where it is now: its axis-aligned box first, then (only then) its parts.
     const double dx = object.velocity.x() * t, dy = object.velocity.y() * t;
-    const double x0 = object.aabb_min.x() + dx - grow_x, x1 = object.aabb_max.x() + dx + grow_x;
-    const double y0 = object.aabb_min.y() + dy - grow_y, y1 = object.aabb_max.y() + dy + grow_y;
-    if (x1 >= 0.0 && x0 <= length && y1 >= -half_width && y0 <= half_width) return t;
+    const Eigen::Vector2d lo(-dx - grow_x, -half_width - dy - grow_y);
+    const Eigen::Vector2d hi(length - dx + grow_x, half_width - dy + grow_y);
+    const auto overlaps = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
+      return (max.array() >= lo.array()).all() && (min.array() <= hi.array()).all();
+    };
+    if (!overlaps(object.aabb_min.head<2>(), object.aabb_max.head<2>())) continue;
+    if (object.footprint.empty()) return t;
+    for (const Eigen::AlignedBox2d& part : object.footprint)
+      if (overlaps(part.min(), part.max())) return t;
   }
   return -1.0;
 }

@@ -40,8 +40,9 @@ std::string validate(const FastDetectorParams& p) {
   return why.str();
 }
 
-FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams& params)
-    : prep_(prep), params_(params) {
+FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams& params,
+                           float footprint_cell_m)
+    : prep_(prep), params_(params), footprint_cell_m_(footprint_cell_m) {
   std::string why = validate(prep);
   if (why.empty()) why = validate(params);
   if (why.empty()) {
@@ -285,7 +286,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
       footprint_.emplace_back(cell.ymin_x, cell.ymin_y);
       footprint_.emplace_back(cell.ymax_x, cell.ymax_y);
     }
-    boxes.push_back(fitBoxFootprint(footprint_, c.zmin, c.zmax, c.count));
+    boxes.push_back(fitBoxFootprint(footprint_, c.zmin, c.zmax, c.count, footprint_cell_m_));
   }
   std::stable_sort(boxes.begin(), boxes.end(),
                    [](const Box3D& a, const Box3D& b) { return a.num_points > b.num_points; });

@@ -1,6 +1,8 @@
 #include "icanc/core/obstacle_detector.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <string>
 
 namespace icanc {
 
@@ -22,6 +24,8 @@ DetectorMethod parseDetectorMethod(const std::string& name) {
 std::string validate(const ObstacleDetectorParams& params) {
   if (params.method == DetectorMethod::kInvalid)
     return "method must be \"classic\" or \"fast\"";
+  if (!(params.footprint_cell_m >= 0.0f) || !std::isfinite(params.footprint_cell_m))
+    return "footprint_cell_m must be >= 0 (got " + std::to_string(params.footprint_cell_m) + ")";
   for (const std::string& why : {validate(params.prep), validate(params.ground),
                                  validate(params.cluster), validate(params.tracker),
                                  validate(params.fast)}) {
@@ -43,8 +47,9 @@ ObstacleDetector::ObstacleDetector(const ObstacleDetectorParams& params)
 void ObstacleDetector::setParams(const ObstacleDetectorParams& params) {
   params_ = params;
   tracker_.setParams(params.tracker);
-  fast_.reset(params.method == DetectorMethod::kFast ? new FastDetector(params.prep, params.fast)
-                                                     : nullptr);
+  fast_.reset(params.method == DetectorMethod::kFast
+                  ? new FastDetector(params.prep, params.fast, params.footprint_cell_m)
+                  : nullptr);
 }
 
 MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const Cloud& cloud,
@@ -69,7 +74,7 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
   const auto t1 = Clock::now();
   ground_ = removeGround(prepared_, params_.ground, nonground_);
   const auto t2 = Clock::now();
-  detections_ = clusterBoxes(nonground_, params_.cluster);
+  detections_ = clusterBoxes(nonground_, params_.cluster, params_.footprint_cell_m);
   const auto t3 = Clock::now();
   if (times) {
     times->prep_ms = ms(t0, t1);

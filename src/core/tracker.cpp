@@ -14,6 +14,10 @@ void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
   box.center += delta;
   box.min += delta;
   box.max += delta;
+  for (FootprintCell& cell : box.footprint) {
+    cell.min += delta.head<2>();
+    cell.max += delta.head<2>();
+  }
 }
 
 // Which part of the box the filter follows along one planar axis.
@@ -72,24 +76,6 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
   return z;
 }
 
-// Huber weighting of one update, per planar axis: an innovation more than `sigmas` standard
-// deviations of its predicted spread sqrt(P + R) away gets its measurement variance raised until
-// it is exactly that many, so a face that jumped (a stray return merged, a shadow) moves the
-// filter as a 3-sigma one would, not by the whole jump. 0 = off.
-Eigen::Vector3d robustVariance(const ConstantVelocityKalman& filter, const Eigen::Vector3d& z,
-                               double variance, double sigmas) {
-  Eigen::Vector3d R = Eigen::Vector3d::Constant(variance);
-  if (!(sigmas > 0.0)) return R;
-  const ConstantVelocityKalman::Matrix6& P = filter.covariance();
-  for (int axis = 0; axis < 2; ++axis) {
-    const double spread2 = P(axis, axis) + variance;
-    const double innovation = z[axis] - filter.position()[axis];
-    const double r2 = innovation * innovation / spread2;
-    if (r2 > sigmas * sigmas) R[axis] = spread2 * r2 / (sigmas * sigmas) - P(axis, axis);
-  }
-  return R;
-}
-
 }  // namespace
 
 const char* toString(TrackAnchor anchor) {
@@ -119,6 +105,10 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.max_missed_frames must be >= 0 (got " << p.max_missed_frames << ")";
   } else if (!(p.accel_std >= 0.0) || !std::isfinite(p.accel_std)) {
     why << "tracker.accel_std must be >= 0 (got " << p.accel_std << ")";
+  } else if (!(p.steady_accel_std >= 0.0) || !std::isfinite(p.steady_accel_std)) {
+    why << "tracker.steady_accel_std must be >= 0 (got " << p.steady_accel_std << ")";
+  } else if (!(p.mode_switch_rate_per_s > 0.0) || !std::isfinite(p.mode_switch_rate_per_s)) {
+    why << "tracker.mode_switch_rate_per_s must be > 0 (got " << p.mode_switch_rate_per_s << ")";
   } else if (!(p.measurement_std_m > 0.0) || !std::isfinite(p.measurement_std_m)) {
     why << "tracker.measurement_std_m must be > 0 (got " << p.measurement_std_m << ")";
   } else if (!(p.initial_velocity_std > 0.0) || !std::isfinite(p.initial_velocity_std)) {
@@ -172,9 +162,10 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
   has_stamp_ = true;
 
   // Predict: the filter, and the box moves as its reference point does.
+  const ImmModels models{params_.steady_accel_std, params_.accel_std, params_.mode_switch_rate_per_s};
   for (Track& track : tracks_) {
     const Eigen::Vector3d before = track.filter.position();
-    track.filter.predict(dt, params_.accel_std);
+    track.filter.predict(dt, models);
     translateBox(track.box, (track.filter.position() - before).cast<float>());
   }
 
@@ -217,8 +208,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
       detection_used_[j] = 1;
       const Eigen::Vector3d z = anchoredMeasurement(detection, track.box, track.filter.position(),
                                                     params_, view);
-      track.filter.update(z, robustVariance(track.filter, z, measurement_variance,
-                                            params_.robust_sigma));
+      track.filter.update(z, measurement_variance, params_.robust_sigma);
       track.box = detection;
       translateBox(track.box, (track.filter.position() - z).cast<float>());
       ++track.hits;

@@ -38,6 +38,14 @@ void toObstacleMsg(const Track& track, Obstacle& out) {
   out.aabb_max.x = track.box.max.x();
   out.aabb_max.y = track.box.max.y();
   out.aabb_max.z = track.box.max.z();
+  out.footprint.resize(track.box.footprint.size());
+  for (std::size_t i = 0; i < track.box.footprint.size(); ++i) {
+    const FootprintCell& cell = track.box.footprint[i];
+    out.footprint[i].x_min = cell.min.x();
+    out.footprint[i].x_max = cell.max.x();
+    out.footprint[i].y_min = cell.min.y();
+    out.footprint[i].y_max = cell.max.y();
+  }
   out.velocity.x = v.x();
   out.velocity.y = v.y();
   out.velocity.z = v.z();
@@ -60,6 +68,9 @@ ObjectKinematics toKinematics(const Obstacle& o) {
   k.aabb_max = Eigen::Vector3d(o.aabb_max.x, o.aabb_max.y, o.aabb_max.z);
   k.velocity = Eigen::Vector3d(o.velocity.x, o.velocity.y, o.velocity.z);
   k.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
+  k.footprint.reserve(o.footprint.size());
+  for (const auto& cell : o.footprint)
+    k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min), Eigen::Vector2d(cell.x_max, cell.y_max));
   return k;
 }
 

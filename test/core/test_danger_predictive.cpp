@@ -1,6 +1,8 @@
 // Issue 9: the predictive danger model (corridor prediction over the reaction time) and its
 // per-track hysteresis, against the paper's rule on the same objects. Zebra profile: corridor
 // |y| <= 0.7 + 0.3 m, 0 <= x <= 0.5 + 1.0 m, reaction time 3 s.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "icanc/core/danger.hpp"
@@ -98,6 +100,49 @@ TEST(DangerPredictive, UncertaintyGrowsEachAxisByItsOwnSigma) {
   const DangerAssessment a = assessDanger(beside, zebra(DangerModel::kPredictive));
   EXPECT_TRUE(a.dangerous);
   EXPECT_NEAR(a.time_to_corridor_s, 0.05, 1e-9);  // 5 m/s * 0.05 s = 0.25 m >= 0.15 m
+}
+
+// Walls meeting ahead (a U open toward the vehicle, as a corridor's side walls and its end merged
+// into one cluster): its axis-aligned box spans the path, its parts do not. The vehicle drives at
+// 0.5 m/s toward the end wall 8 m ahead.
+TEST(DangerPredictive, AConcaveFootprintIsJudgedByItsPartsNotItsBox) {
+  const DangerParams p = zebra(DangerModel::kPredictive);
+  ObjectKinematics u;
+  u.aabb_min = Eigen::Vector3d(2.0, -3.2, 0.0);
+  u.aabb_max = Eigen::Vector3d(8.2, 3.2, 2.5);
+  u.center = 0.5 * (u.aabb_min + u.aabb_max);
+  u.velocity = Eigen::Vector3d(-0.5, 0.0, 0.0);
+  u.velocity_std = Eigen::Vector2d(0.0, 0.0);  // settled: the times below are exact
+  EXPECT_TRUE(assessDanger(u, p).dangerous);  // the box alone: 0.5 m from the corridor's end
+  for (double x = 2.0; x < 8.0; x += 1.0) {   // the side walls, in 1 m parts
+    u.footprint.emplace_back(Eigen::Vector2d(x, 3.0), Eigen::Vector2d(x + 1.0, 3.2));
+    u.footprint.emplace_back(Eigen::Vector2d(x, -3.2), Eigen::Vector2d(x + 1.0, -3.0));
+  }
+  for (double y = -3.2; y < 3.2; y += 1.0)  // the end wall
+    u.footprint.emplace_back(Eigen::Vector2d(8.0, y), Eigen::Vector2d(8.2, std::min(3.2, y + 1.0)));
+  EXPECT_FALSE(assessDanger(u, p).dangerous);
+  // The same U with a table standing in the path 2.5 m ahead: that part is dangerous.
+  u.footprint.emplace_back(Eigen::Vector2d(2.5, -0.4), Eigen::Vector2d(3.3, 0.4));
+  const DangerAssessment a = assessDanger(u, p);
+  EXPECT_TRUE(a.dangerous);
+  EXPECT_NEAR(a.time_to_corridor_s, 2.0, 1e-9);  // (2.5 - 1.5) m at 0.5 m/s
+  // The paper's rule keeps its closest point of the axis-aligned box (2.0 m: 0.5 * 3 = 1.5 m).
+  EXPECT_DOUBLE_EQ(assessDanger(u, zebra(DangerModel::kPaper)).distance_m, 2.0);
+}
+
+// footprint_margin_m: a box seen 0.1 m smaller than the object (KITTI's labels reach 0.2 m beyond
+// what the LiDAR sees) beside the path is caught when the margin makes up for it, at t = 0.
+TEST(DangerPredictive, FootprintMarginGrowsTheBoxOnEverySide) {
+  DangerParams p = zebra(DangerModel::kPredictive);
+  const ObjectKinematics beside = boxAt(1.0, 1.35, 0.25, 0.0, 0.0);  // edge at y = 1.1 m
+  EXPECT_FALSE(assessDanger(beside, p).dangerous);
+  p.footprint_margin_m = 0.15;
+  const DangerAssessment a = assessDanger(beside, p);
+  EXPECT_TRUE(a.dangerous);
+  EXPECT_DOUBLE_EQ(a.time_to_corridor_s, 0.0);
+  EXPECT_FALSE(assessDanger(boxAt(1.0, 1.45, 0.25, 0.0, 0.0), p).dangerous);  // edge 1.2 m
+  p.footprint_margin_m = -0.1;
+  EXPECT_NE(validate(p).find("footprint_margin_m"), std::string::npos);
 }
 
 TEST(DangerPredictive, StaticObjectWhileTheVehicleMovesOnlyInTheFutureFootprint) {

@@ -290,6 +290,10 @@ TEST(FastDetector, InvalidParametersAreNamed) {
   EXPECT_NE(validate(d).find("method"), std::string::npos);
   d.method = parseDetectorMethod("fast");
   EXPECT_EQ(validate(d), "");
+  d.footprint_cell_m = -1.0f;
+  EXPECT_NE(validate(d).find("footprint_cell_m"), std::string::npos);
+  d.footprint_cell_m = 0.0f;  // off
+  EXPECT_EQ(validate(d), "");
   d.fast.cell_m = 0.05f;
   d.prep.roi_min = {-5000.0f, -5000.0f, -3.0f};
   d.prep.roi_max = {5000.0f, 5000.0f, 3.0f};

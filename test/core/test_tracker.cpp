@@ -350,7 +350,9 @@ TEST(Tracker, TentativeUntilMinHitsThenConfirmedForGood) {
 TEST(Tracker, MatchedBoxIsTheDetectionMovedByTheFilter) {
   MultiObjectTracker t;
   t.update(0.0, {box(5, 0)});
-  const Box3D det = box(5.3, 0.1, 1.2, 0.6, 1.5);
+  Box3D det = box(5.3, 0.1, 1.2, 0.6, 1.5);
+  det.footprint = {{det.min.head<2>(), Eigen::Vector2f(5.3f, det.max.y())},
+                   {Eigen::Vector2f(5.3f, det.min.y()), det.max.head<2>()}};
   t.update(0.1, {det});
   ASSERT_EQ(t.tracks().size(), 1u);
   const Track& track = t.tracks()[0];
@@ -361,6 +363,18 @@ TEST(Tracker, MatchedBoxIsTheDetectionMovedByTheFilter) {
   EXPECT_TRUE((track.box.max - det.max).isApprox(shift, 1e-5f));
   EXPECT_GT(track.box.min.x(), 4.6f);  // pulled towards the measurement...
   EXPECT_LT(track.box.min.x(), 4.7f);  // ...but filtered
+  // The footprint's parts move with it, while matched and while coasting.
+  ASSERT_EQ(track.box.footprint.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_TRUE((track.box.footprint[i].min - det.footprint[i].min).isApprox(shift.head<2>(), 1e-5f));
+    EXPECT_TRUE((track.box.footprint[i].max - det.footprint[i].max).isApprox(shift.head<2>(), 1e-5f));
+  }
+  const Box3D before = track.box;
+  t.update(0.2, {});
+  const Box3D& coasting = t.tracks()[0].box;
+  const Eigen::Vector2f moved = (coasting.min - before.min).head<2>();
+  EXPECT_GT(moved.norm(), 0.01f);
+  EXPECT_TRUE((coasting.footprint[1].max - before.footprint[1].max).isApprox(moved, 1e-5f));
 }
 
 TEST(Tracker, NonFiniteDetectionsAreIgnored) {
@@ -472,12 +486,19 @@ TEST(TrackerParams, Validate) {
   p = TrackerParams();
   p.max_dt_s = std::numeric_limits<double>::infinity();
   expectBad(p, "max_dt_s", "inf");
+  p = TrackerParams();
+  p.steady_accel_std = -0.1;
+  expectBad(p, "steady_accel_std", "-0.1");
+  p = TrackerParams();
+  p.mode_switch_rate_per_s = 0;
+  expectBad(p, "mode_switch_rate_per_s", "0");
 
   // Boundaries that are allowed.
   p = TrackerParams();
   p.iou_weight = 0;
   p.max_missed_frames = 0;
   p.accel_std = 0;
+  p.steady_accel_std = 0;
   p.min_hits_to_confirm = 1;
   EXPECT_EQ(validate(p), "");
 }

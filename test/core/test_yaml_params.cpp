@@ -42,7 +42,17 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_DOUBLE_EQ(carla.danger.reaction_time_s, 2.0);
   EXPECT_DOUBLE_EQ(carla.light.tau_s, 2.0);
 
-  EXPECT_NO_THROW(loadProfile(configDir() + "kitti_hdl64e.yaml"));
+  const Profile kitti = loadProfile(configDir() + "kitti_hdl64e.yaml");
+  // The footprint margin is each profile's measured box bias (README: Predictive danger model):
+  // KITTI's labelled boxes reach 0.19-0.25 m beyond what the HDL-64E sees, the simulator's 0-0.07.
+  EXPECT_DOUBLE_EQ(kitti.danger.footprint_margin_m, 0.2);
+  EXPECT_DOUBLE_EQ(zebra.danger.footprint_margin_m, 0.0);
+  EXPECT_DOUBLE_EQ(carla.danger.footprint_margin_m, 0.05);
+  for (const Profile* p : {&zebra, &carla, &kitti}) {
+    EXPECT_FLOAT_EQ(p->detector.footprint_cell_m, 1.0f);
+    EXPECT_DOUBLE_EQ(p->detector.tracker.accel_std, 3.0);
+    EXPECT_DOUBLE_EQ(p->detector.tracker.steady_accel_std, 0.05);
+  }
 }
 
 TEST(Profiles, BadValueNamesFileAndKey) {

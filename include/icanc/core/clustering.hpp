@@ -17,7 +17,9 @@ struct ClusterParams {
 
 std::string validate(const ClusterParams& params);
 
-// Clusters `cloud` and returns one fitted box per cluster, largest cluster first.
-std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params);
+// Clusters `cloud` and returns one fitted box per cluster, largest cluster first, with its
+// footprint cells when footprint_cell_m > 0 (fitBox).
+std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
+                                float footprint_cell_m = 0.0f);
 
 }  // namespace icanc

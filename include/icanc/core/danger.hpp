@@ -8,7 +8,10 @@
 #include <string>
 #include <unordered_map>
 
+#include <vector>
+
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // AlignedBox
 
 namespace icanc {
 
@@ -43,6 +46,9 @@ struct DangerParams {
   // danger when it is near the path, and a well-measured axis does not widen the other.
   double velocity_std_k = 1.0;
   double uncertainty_cap_m = 0.5;
+  // The LiDAR sees less of an object than it is (its far side, the edges between beams, a voxel
+  // grid's centroids inside the surface): the footprint grows by this much on every side [m].
+  double footprint_margin_m = 0.0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
   // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
@@ -83,6 +89,9 @@ struct ObjectKinematics {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // relative to the vehicle [m/s]
   // 1-sigma velocity uncertainty of the filter along x and y [m/s].
   Eigen::Vector2d velocity_std = Eigen::Vector2d::Zero();
+  // kPredictive: where the object is inside its axis-aligned box, seen from above (x, y): tight
+  // parts of the footprint (icanc/Obstacle footprint). Empty: the axis-aligned box.
+  std::vector<Eigen::AlignedBox2d> footprint;
 };
 
 struct DangerAssessment {
@@ -103,9 +112,10 @@ struct DangerAssessment {
 // distance, speed, heading and moving_toward are filled as for the paper's rule, for display).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
-// kPredictive's core: the axis-aligned footprint [aabb_min, aabb_max] (x, y) moving at the
-// relative velocity, grown per axis by min(k * velocity_std(axis) * t, cap), sampled every time_step_s over
-// [0, reaction_time]: the first time it overlaps the corridor, or -1.
+// kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at the
+// relative velocity, grown on every side by footprint_margin_m and per axis by
+// min(k * velocity_std(axis) * t, cap), sampled every time_step_s over [0, reaction_time]: the
+// first time a part of it overlaps the corridor, or -1.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
 
 // Per-track hysteresis of the danger label (params: on_frames, off_frames, immediate_ttc_s,

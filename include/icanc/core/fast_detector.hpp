@@ -63,7 +63,9 @@ class FastDetector {
  public:
   // `prep` gives the ROI and ego box (its voxel grid is not used: the BEV grid replaces it).
   // Throws std::invalid_argument when either parameter set is invalid.
-  FastDetector(const CloudPrepParams& prep, const FastDetectorParams& params);
+  // footprint_cell_m > 0: each box carries its footprint cells (Box3D::footprint).
+  FastDetector(const CloudPrepParams& prep, const FastDetectorParams& params,
+               float footprint_cell_m = 0.0f);
 
   // One frame, already in the vehicle frame. Boxes are largest cluster first.
   void detect(const Cloud& cloud, std::vector<Box3D>& boxes, FastStageTimes* times = nullptr);
@@ -117,6 +119,7 @@ class FastDetector {
 
   CloudPrepParams prep_;
   FastDetectorParams params_;
+  float footprint_cell_m_ = 0.0f;
   PassOne pass_one_{};
   int nx_ = 0, ny_ = 0, bins_ = 0;
   float inv_cell_ = 0.0f;

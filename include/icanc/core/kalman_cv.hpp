@@ -24,6 +24,12 @@ class ConstantVelocityKalman {
   // Same, with a variance per axis [m^2].
   void update(const Eigen::Vector3d& measured_position, const Eigen::Vector3d& measurement_variance);
 
+  // Replaces state and covariance (an IMM's mixing step).
+  void set(const Vector6& state, const Matrix6& covariance) {
+    x_ = state;
+    P_ = covariance;
+  }
+
   Eigen::Vector3d position() const { return x_.head<3>(); }
   Eigen::Vector3d velocity() const { return x_.tail<3>(); }
   const Vector6& state() const { return x_; }

@@ -18,6 +18,7 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   std::string method = toString(p.method);  // "classic" | "fast"; validate() rejects others
   r("method", method);
   p.method = parseDetectorMethod(method);
+  r("footprint_cell_m", p.footprint_cell_m);
   r("prep/roi_min", p.prep.roi_min);
   r("prep/roi_max", p.prep.roi_max);
   r("prep/remove_ego", p.prep.remove_ego);
@@ -36,6 +37,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/min_hits_to_confirm", p.tracker.min_hits_to_confirm);
   r("tracker/max_missed_frames", p.tracker.max_missed_frames);
   r("tracker/accel_std", p.tracker.accel_std);
+  r("tracker/steady_accel_std", p.tracker.steady_accel_std);
+  r("tracker/mode_switch_rate_per_s", p.tracker.mode_switch_rate_per_s);
   r("tracker/measurement_std_m", p.tracker.measurement_std_m);
   r("tracker/initial_velocity_std", p.tracker.initial_velocity_std);
   r("tracker/max_dt_s", p.tracker.max_dt_s);
@@ -69,6 +72,7 @@ void visitParams(Reader& r, DangerParams& p) {
   r("predictive/stopping_margin_m", p.stopping_margin_m);
   r("predictive/velocity_std_k", p.velocity_std_k);
   r("predictive/uncertainty_cap_m", p.uncertainty_cap_m);
+  r("predictive/footprint_margin_m", p.footprint_margin_m);
   r("predictive/time_step_s", p.time_step_s);
   r("predictive/on_frames", p.on_frames);
   r("predictive/off_frames", p.off_frames);

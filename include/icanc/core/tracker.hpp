@@ -1,5 +1,5 @@
 // Multi-object tracker: gating by centre displacement and BEV IoU, optimal assignment
-// (solveAssignmentByComponents), one ConstantVelocityKalman per track, birth / confirmation / deletion.
+// (solveAssignmentByComponents), one ImmConstantVelocity filter per track, birth / confirmation / deletion.
 // The filter measures how the faces of the box that stay on the object moved (TrackAnchor), not
 // how the centre of the visible points moved. Time is always the caller's (header stamps), never
 // a clock.
@@ -14,7 +14,7 @@
 
 #include "icanc/core/box.hpp"
 #include "icanc/core/hungarian.hpp"
-#include "icanc/core/kalman_cv.hpp"
+#include "icanc/core/imm_cv.hpp"
 
 namespace icanc {
 
@@ -47,7 +47,12 @@ struct TrackerParams {
   float iou_weight = 1.0f;             // cost = distance / gate + iou_weight * (1 - BEV IoU)
   int min_hits_to_confirm = 2;         // detections before a track is published
   int max_missed_frames = 2;           // a track survives this many consecutive misses
-  double accel_std = 3.0;              // process noise, white acceleration [m/s^2]
+  // The filter is an IMM of two constant-velocity models (ImmConstantVelocity): manoeuvring
+  // (accel_std) and steady (steady_accel_std), changing mode at mode_switch_rate_per_s. Equal
+  // values make it the single constant-velocity filter.
+  double accel_std = 3.0;              // process noise of the manoeuvring model [m/s^2]
+  double steady_accel_std = 0.05;      // process noise of the steady model [m/s^2]
+  double mode_switch_rate_per_s = 0.02;  // [1/s]: P(change per frame) = 1 - exp(-rate * dt)
   double measurement_std_m = 0.15;     // centre measurement noise [m]
   double initial_velocity_std = 5.0;   // velocity uncertainty of a new track [m/s]
   double max_dt_s = 1.0;               // a larger gap between frames resets the tracker
@@ -71,7 +76,7 @@ struct Track {
   // Its position is a reference point rigidly attached to the object (the first detection's
   // centre, then moved as the anchor faces moved), not the box centre: use box for where the
   // object is, filter for its velocity.
-  ConstantVelocityKalman filter;
+  ImmConstantVelocity filter;
   int age = 0;                // frames since birth (1 on the birth frame)
   int hits = 0;               // frames with an associated detection
   int missed = 0;             // consecutive frames without one

@@ -1,0 +1,59 @@
+// toObstacleMsg / toKinematics (src/ros/conversions.cpp): what the DangerDetector is given of a
+// track is what the tracker holds, the footprint's parts included.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "icanc/ros/conversions.hpp"
+
+namespace icanc {
+namespace {
+
+TEST(Conversions, ATrackRoundTripsIntoTheDangerModelsKinematics) {
+  MultiObjectTracker tracker;
+  Box3D b;
+  b.center = Eigen::Vector3f(6.0f, -1.0f, 0.8f);
+  b.size = Eigen::Vector3f(2.0f, 1.0f, 1.6f);
+  b.yaw = 0.3f;
+  b.min = Eigen::Vector3f(5.0f, -1.5f, 0.0f);
+  b.max = Eigen::Vector3f(7.0f, -0.5f, 1.6f);
+  b.num_points = 40;
+  b.footprint = {{Eigen::Vector2f(5.0f, -1.5f), Eigen::Vector2f(5.9f, -1.4f)},
+                 {Eigen::Vector2f(6.0f, -1.5f), Eigen::Vector2f(7.0f, -0.5f)}};
+  tracker.update(0.0, {b});
+  b.center.x() -= 0.1f;
+  b.min.x() -= 0.1f;
+  b.max.x() -= 0.1f;
+  for (FootprintCell& c : b.footprint) {
+    c.min.x() -= 0.1f;
+    c.max.x() -= 0.1f;
+  }
+  tracker.update(0.1, {b});
+  ASSERT_EQ(tracker.tracks().size(), 1u);
+  const Track& track = tracker.tracks()[0];
+
+  Obstacle msg;
+  toObstacleMsg(track, msg);
+  EXPECT_EQ(msg.id, track.id);
+  EXPECT_NEAR(2.0 * std::atan2(msg.pose.orientation.z, msg.pose.orientation.w), 0.3, 1e-6);
+  EXPECT_EQ(msg.num_points, 40u);
+  EXPECT_EQ(msg.age, 2u);
+  ASSERT_EQ(msg.footprint.size(), 2u);
+  EXPECT_FLOAT_EQ(msg.footprint[1].x_max, track.box.footprint[1].max.x());
+  EXPECT_FLOAT_EQ(msg.footprint[0].y_min, track.box.footprint[0].min.y());
+
+  const ObjectKinematics k = toKinematics(msg);
+  EXPECT_TRUE(k.aabb_min.isApprox(track.box.min.cast<double>(), 1e-6));
+  EXPECT_TRUE(k.aabb_max.isApprox(track.box.max.cast<double>(), 1e-6));
+  EXPECT_TRUE(k.velocity.isApprox(track.velocity(), 1e-6));
+  EXPECT_TRUE(k.velocity_std.isApprox(track.velocityStdXY(), 1e-6));
+  ASSERT_EQ(k.footprint.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_TRUE(k.footprint[i].min().isApprox(track.box.footprint[i].min.cast<double>(), 1e-6));
+    EXPECT_TRUE(k.footprint[i].max().isApprox(track.box.footprint[i].max.cast<double>(), 1e-6));
+  }
+  EXPECT_LT(k.velocity.x(), -0.3);  // it is closing in: 0.1 m per 0.1 s
+}
+
+}  // namespace
+}  // namespace icanc
