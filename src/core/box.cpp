@@ -31,20 +31,28 @@ std::vector<FootprintCell> footprintCells(const std::vector<cv::Point2f>& xy, fl
   const float inv = 1.0f / cell_m;
   // A dense grid over the points' own cells when it is small against the points (every cluster a
   // detector makes): linear, no sort. Cells come out ordered by x cell, then y cell, as below.
-  float xmin = xy[0].x, xmax = xy[0].x, ymin = xy[0].y, ymax = xy[0].y;
+  // Non-finite points are skipped.
+  const auto finite = [](const cv::Point2f& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
+  const float inf = std::numeric_limits<float>::infinity();
+  float xmin = inf, xmax = -inf, ymin = inf, ymax = -inf;
+  std::size_t n = 0;
   for (const cv::Point2f& p : xy) {
+    if (!finite(p)) continue;
+    ++n;
     xmin = std::min(xmin, p.x);
     xmax = std::max(xmax, p.x);
     ymin = std::min(ymin, p.y);
     ymax = std::max(ymax, p.y);
   }
+  if (n == 0) return cells;
   const double kx0 = std::floor(xmin * inv), ky0 = std::floor(ymin * inv);
   const double nx = std::floor(xmax * inv) - kx0 + 1.0, ny = std::floor(ymax * inv) - ky0 + 1.0;
-  if (nx * ny <= 4.0 * static_cast<double>(xy.size()) + 64.0) {
+  if (nx * ny <= 4.0 * static_cast<double>(n) + 64.0) {
     const int w = static_cast<int>(nx), h = static_cast<int>(ny);
     std::vector<FootprintCell> grid(static_cast<std::size_t>(w) * h);
     std::vector<char> used(grid.size(), 0);
     for (const cv::Point2f& p : xy) {
+      if (!finite(p)) continue;
       const int ix = std::min(w - 1, std::max(0, static_cast<int>(std::floor(p.x * inv) - kx0)));
       const int iy = std::min(h - 1, std::max(0, static_cast<int>(std::floor(p.y * inv) - ky0)));
       const std::size_t k = static_cast<std::size_t>(ix) * h + iy;
@@ -66,8 +74,9 @@ std::vector<FootprintCell> footprintCells(const std::vector<cv::Point2f>& xy, fl
     cv::Point2f p;
   };
   std::vector<Keyed> keyed;
-  keyed.reserve(xy.size());
+  keyed.reserve(n);
   for (const cv::Point2f& p : xy) {
+    if (!finite(p)) continue;
     const auto kx = static_cast<std::int64_t>(std::floor(p.x * inv));
     const auto ky = static_cast<std::int64_t>(std::floor(p.y * inv));
     // Ordered by x cell, then y cell (offset to be non-negative in the low 32 bits).

@@ -1,5 +1,7 @@
 // Pins the box fitting's footprint cells (Box3D::footprint): tight bounds of the points in each
 // occupied cell of a grid anchored at the origin, their union's bounds the axis-aligned box.
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "icanc/core/box.hpp"
@@ -60,6 +62,14 @@ TEST(BoxFootprint, CellsFollowTheGridNotThePointsAndNoneWhenOff) {
   EXPECT_FLOAT_EQ(cells[1].max.y(), 0.3f);
   EXPECT_FLOAT_EQ(cells[2].min.x(), 1.05f);
   EXPECT_TRUE(footprintCells(xy, 0.0f).empty());
+  // Non-finite points are skipped, by both paths (dense here; sorted with a far point).
+  std::vector<cv::Point2f> bad = xy;
+  bad.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.5f);
+  bad.emplace_back(0.5f, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(footprintCells(bad, 1.0f).size(), 3u);
+  bad.emplace_back(500.0f, 500.0f);
+  EXPECT_EQ(footprintCells(bad, 1.0f).size(), 4u);
+  EXPECT_TRUE(footprintCells({{std::numeric_limits<float>::quiet_NaN(), 1.0f}}, 1.0f).empty());
   EXPECT_TRUE(fitBoxFootprint(xy, 0.0f, 1.0f, 4).footprint.empty());
   EXPECT_EQ(fitBoxFootprint(xy, 0.0f, 1.0f, 4, 0.5f).footprint.size(), 3u);
   EXPECT_EQ(fitBoxFootprint(xy, 0.0f, 1.0f, 4, 0.1f).footprint.size(), 4u);  // 0.8 | 0.95 split

@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
-
 #include <vector>
 
 #include <Eigen/Core>
