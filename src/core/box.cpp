@@ -82,7 +82,8 @@ std::vector<FootprintCell> footprintCells(const std::vector<cv::Point2f>& xy, fl
     // Ordered by x cell, then y cell (offset to be non-negative in the low 32 bits).
     keyed.push_back({kx * (std::int64_t(1) << 32) + (ky + (std::int64_t(1) << 31)), p});
   }
-  std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
+  std::sort(keyed.begin(), keyed.end(),
+            [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
   for (std::size_t i = 0; i < keyed.size(); ++i) {
     const Eigen::Vector2f p(keyed[i].p.x, keyed[i].p.y);
     if (i == 0 || keyed[i].key != keyed[i - 1].key) {

@@ -126,7 +126,6 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     on_frames += f.lamp_on;
     bool any_truly_dangerous = false;
     for (const TruthObject& o : f.truth) any_truly_dangerous |= o.dangerous;
-    truth_lamp.tick(f.t);
     truth_lamp.onInput(f.t, any_truly_dangerous);
     truth_on_frames += truth_lamp.on();
     latencies.push_back(f.latency_ms);
@@ -184,7 +183,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           const double c = std::abs(std::cos(o.yaw)), s = std::abs(std::sin(o.yaw));
           const Eigen::Vector2d reach(c * half.x() + s * half.y(), s * half.x() + c * half.y());
           const Eigen::Vector2d tmin = o.center - reach, tmax = o.center + reach;
-          near_bias.push_back(o.center.x() >= 0.0 ? d.aabb_min.x() - tmin.x() : tmax.x() - d.aabb_max.x());
+          near_bias.push_back(o.center.x() >= 0.0 ? d.aabb_min.x() - tmin.x()
+                                                  : tmax.x() - d.aabb_max.x());
           side_bias.push_back(d.aabb_min.y() - tmin.y());
           side_bias.push_back(tmax.y() - d.aabb_max.y());
         }
@@ -205,8 +205,9 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       // Danger per object-frame: its detection or one of its fragments flagged.
       const bool by_match = found && dets[m[i]].dangerous;
       const bool predicted = by_match || flagged_by[i] >= 0;
-      const Outcome outcome = o.dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
-                                          : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
+      const Outcome outcome =
+          o.dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
+                      : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
       count(r.danger, outcome);
       if (rows) {
         ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};
@@ -228,7 +229,10 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;
-        if (rows) rows->push_back(ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j]});
+        if (rows) {
+          rows->push_back(
+              ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j]});
+        }
       }
     }
 
@@ -289,7 +293,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
       r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
-      r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples, r.latency_p50_ms, r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
+      r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples, r.latency_p50_ms,
+      r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
       100 * r.duty_cycle, 100 * r.truth_duty_cycle);
   return buf;
 }
@@ -311,10 +316,12 @@ std::string toJson(const EvalReport& r, const std::string& name) {
   j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
     << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
     << ", \"offset_step_rms_m\": " << r.offset_step_rms_m
-    << ", \"box_bias_near_m\": " << r.box_bias_near_m << ", \"box_bias_side_m\": " << r.box_bias_side_m
+    << ", \"box_bias_near_m\": " << r.box_bias_near_m
+    << ", \"box_bias_side_m\": " << r.box_bias_side_m
     << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
     << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
-    << ", \"duty_cycle\": " << r.duty_cycle << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << "}";
+    << ", \"duty_cycle\": " << r.duty_cycle
+    << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << "}";
   return j.str();
 }
 
@@ -339,8 +346,9 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
     }
     if (row.has_detection) {
       const DetectedObject& d = row.detection;
-      std::snprintf(buf, sizeof(buf), "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n",
-                    d.id, row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
+      std::snprintf(buf, sizeof(buf),
+                    "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n", d.id,
+                    row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
                     d.velocity.x(), d.velocity.y(), d.velocity_std.x(), d.velocity_std.y(),
                     d.aabb_min.x(), d.aabb_max.x(), d.aabb_min.y(), d.aabb_max.y(), d.age);
       c << buf;

@@ -8,7 +8,8 @@
 namespace icanc {
 
 Eigen::Vector3d robustMeasurementVariance(const ConstantVelocityKalman& filter,
-                                          const Eigen::Vector3d& z, double variance, double sigmas) {
+                                          const Eigen::Vector3d& z, double variance,
+                                          double sigmas) {
   Eigen::Vector3d R = Eigen::Vector3d::Constant(variance);
   if (!(sigmas > 0.0)) return R;
   const ConstantVelocityKalman::Matrix6& P = filter.covariance();
@@ -29,26 +30,18 @@ void ImmConstantVelocity::init(const Eigen::Vector3d& position, double position_
 }
 
 void ImmConstantVelocity::predict(double dt, const ImmModels& models) {
-  // Mixing: mix[i][j] = P(mode i before | mode j now), c[j] = P(mode j now) before the update.
+  // Mixing: mix[j][i] = P(mode i before | mode j now), c[j] = P(mode j now) before the update.
   const double p_switch = 1.0 - std::exp(-std::max(0.0, models.switch_rate_per_s) * dt);
-  double mix[kModes][kModes];
+  std::array<std::array<double, kModes>, kModes> mix;
   std::array<double, kModes> c{};
   for (int j = 0; j < kModes; ++j) {
     for (int i = 0; i < kModes; ++i) c[j] += (i == j ? 1.0 - p_switch : p_switch) * mu_[i];
     for (int i = 0; i < kModes; ++i)
-      mix[i][j] = c[j] > 0.0 ? (i == j ? 1.0 - p_switch : p_switch) * mu_[i] / c[j] : (i == j);
+      mix[j][i] = c[j] > 0.0 ? (i == j ? 1.0 - p_switch : p_switch) * mu_[i] / c[j] : (i == j);
   }
   std::array<Vector6, kModes> x0;
   std::array<Matrix6, kModes> P0;
-  for (int j = 0; j < kModes; ++j) {
-    x0[j].setZero();
-    for (int i = 0; i < kModes; ++i) x0[j] += mix[i][j] * filters_[i].state();
-    P0[j].setZero();
-    for (int i = 0; i < kModes; ++i) {
-      const Vector6 d = filters_[i].state() - x0[j];
-      P0[j] += mix[i][j] * (filters_[i].covariance() + d * d.transpose());
-    }
-  }
+  for (int j = 0; j < kModes; ++j) mixture(mix[j], x0[j], P0[j]);
   const double accel_std[kModes] = {models.steady_accel_std, models.manoeuvre_accel_std};
   for (int j = 0; j < kModes; ++j) {
     filters_[j].set(x0[j], P0[j]);
@@ -81,14 +74,17 @@ void ImmConstantVelocity::update(const Eigen::Vector3d& measured_position,
   combine();
 }
 
-void ImmConstantVelocity::combine() {
-  x_.setZero();
-  for (int j = 0; j < kModes; ++j) x_ += mu_[j] * filters_[j].state();
-  P_.setZero();
-  for (int j = 0; j < kModes; ++j) {
-    const Vector6 d = filters_[j].state() - x_;
-    P_ += mu_[j] * (filters_[j].covariance() + d * d.transpose());
+void ImmConstantVelocity::mixture(const std::array<double, kModes>& weights, Vector6& x,
+                                  Matrix6& P) const {
+  x.setZero();
+  for (int i = 0; i < kModes; ++i) x += weights[i] * filters_[i].state();
+  P.setZero();
+  for (int i = 0; i < kModes; ++i) {
+    const Vector6 d = filters_[i].state() - x;
+    P += weights[i] * (filters_[i].covariance() + d * d.transpose());
   }
 }
+
+void ImmConstantVelocity::combine() { mixture(mu_, x_, P_); }
 
 }  // namespace icanc

@@ -162,7 +162,8 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
   has_stamp_ = true;
 
   // Predict: the filter, and the box moves as its reference point does.
-  const ImmModels models{params_.steady_accel_std, params_.accel_std, params_.mode_switch_rate_per_s};
+  const ImmModels models{params_.steady_accel_std, params_.accel_std,
+                         params_.mode_switch_rate_per_s};
   for (Track& track : tracks_) {
     const Eigen::Vector3d before = track.filter.position();
     track.filter.predict(dt, models);

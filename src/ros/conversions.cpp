@@ -70,7 +70,8 @@ ObjectKinematics toKinematics(const Obstacle& o) {
   k.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
   k.footprint.reserve(o.footprint.size());
   for (const auto& cell : o.footprint)
-    k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min), Eigen::Vector2d(cell.x_max, cell.y_max));
+    k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min),
+                             Eigen::Vector2d(cell.x_max, cell.y_max));
   return k;
 }
 

@@ -6,9 +6,9 @@
 // and Navigation", 2001, section 11.6.6). The combined estimate follows a manoeuvre as fast as the
 // manoeuvring model, and its covariance is the steady model's while the object moves steadily: a
 // single filter tuned for manoeuvres reports its process noise as the velocity's uncertainty
-// forever (0.49 m/s at 3 m/s^2, 10 Hz, 0.15 m), the IMM reports what the estimate is actually
-// known to (0.1 m/s). With equal process noises the two models stay identical and the IMM is the
-// single filter.
+// forever (0.49 m/s at 3 m/s^2, 10 Hz, 0.15 m), the IMM reports what the estimate is actually known
+// to (0.04 m/s with the steady model at 0.05 m/s^2; test_imm_cv). With equal process noises the two
+// models stay identical and the IMM is the single filter.
 #pragma once
 
 #include <array>
@@ -55,9 +55,12 @@ class ImmConstantVelocity {
   const Vector6& state() const { return x_; }
   const Matrix6& covariance() const { return P_; }
   double modeProbability(Mode mode) const { return mu_[mode]; }
-  const ConstantVelocityKalman& model(Mode mode) const { return filters_[mode]; }
 
  private:
+  // The models as one Gaussian, weighted: mean, and covariance with the spread of the means.
+  // The mixing step (per model, by where it came from) and the combined estimate (by mu_).
+  void mixture(const std::array<double, kModes>& weights, Vector6& x, Matrix6& P) const;
+  // x_, P_: the mixture by the mode probabilities.
   void combine();
 
   std::array<ConstantVelocityKalman, kModes> filters_;

@@ -26,8 +26,8 @@ DetectorMethod parseDetectorMethod(const std::string& name);  // kInvalid for an
 
 struct ObstacleDetectorParams {
   DetectorMethod method = DetectorMethod::kClassic;
-  // Each box carries its footprint as tight boxes per occupied cell of this grid (Box3D::footprint),
-  // both methods [m]; 0: none (the axis-aligned box is the footprint).
+  // Each box carries its footprint as tight boxes per occupied cell of this grid
+  // (Box3D::footprint), both methods [m]; 0: none (the axis-aligned box is the footprint).
   float footprint_cell_m = 1.0f;
   FastDetectorParams fast;
   CloudPrepParams prep;

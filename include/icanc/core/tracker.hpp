@@ -1,5 +1,6 @@
 // Multi-object tracker: gating by centre displacement and BEV IoU, optimal assignment
-// (solveAssignmentByComponents), one ImmConstantVelocity filter per track, birth / confirmation / deletion.
+// (solveAssignmentByComponents), one ImmConstantVelocity filter per track, birth / confirmation /
+// deletion.
 // The filter measures how the faces of the box that stay on the object moved (TrackAnchor), not
 // how the centre of the visible points moved. Time is always the caller's (header stamps), never
 // a clock.
