@@ -40,11 +40,11 @@ std::vector<int> match(const std::vector<TruthObject>& truth,
   return solveAssignment(cost);
 }
 
-bool onUnscoredObject(const std::vector<TruthObject>& all_truth, const DetectedObject& det,
-                      const EvalParams& params) {
+const TruthObject* unscoredObjectAt(const std::vector<TruthObject>& all_truth,
+                                    const DetectedObject& det, const EvalParams& params) {
   for (const TruthObject& o : all_truth)
-    if (distanceToFootprint(o, det.center) <= params.match_distance_m) return true;
-  return false;
+    if (distanceToFootprint(o, det.center) <= params.match_distance_m) return &o;
+  return nullptr;
 }
 
 void count(Confusion& c, Outcome outcome) {
@@ -53,6 +53,7 @@ void count(Confusion& c, Outcome outcome) {
     case Outcome::kFalsePositive: ++c.fp; break;
     case Outcome::kFalseNegative: ++c.fn; break;
     case Outcome::kTrueNegative: ++c.tn; break;
+    case Outcome::kDontCare: break;
   }
 }
 
@@ -64,6 +65,7 @@ const char* toString(Outcome outcome) {
     case Outcome::kFalsePositive: return "FP";
     case Outcome::kFalseNegative: return "FN";
     case Outcome::kTrueNegative: return "TN";
+    case Outcome::kDontCare: return "DC";
   }
   return "?";
 }
@@ -224,7 +226,13 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (det_used[j]) continue;
       // On a true object that is not scored (too few returns, just out of range or view): not
       // scored either, as KITTI's DontCare.
-      if (fragment_of[j] < 0 && onUnscoredObject(f.truth, dets[j], params)) continue;
+      const TruthObject* unscored =
+          fragment_of[j] < 0 ? unscoredObjectAt(f.truth, dets[j], params) : nullptr;
+      if (unscored) {
+        if (rows && dets[j].dangerous)
+          rows->push_back(ScoredRow{f.t, Outcome::kDontCare, true, *unscored, true, false, dets[j]});
+        continue;
+      }
       ++r.detection.fp;
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;

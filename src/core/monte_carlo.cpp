@@ -134,6 +134,8 @@ std::string validate(const MonteCarloParams& p) {
     why << "monte carlo: reaction_time_s must be > 0 (got " << p.reaction_time_s << ")";
   else if (!(p.half_width_m > 0.0))
     why << "monte carlo: half_width_m must be > 0 (got " << p.half_width_m << ")";
+  else if (p.model == DangerModel::kInvalid)
+    why << "monte carlo: model must be paper or predictive";
   return why.str();
 }
 
@@ -233,9 +235,12 @@ MonteCarloResult runMonteCarlo(const MonteCarloParams& params) {
   DangerParams danger;
   danger.half_width_m = params.half_width_m;
   danger.reaction_time_s = params.reaction_time_s;
+  danger.model = params.model;
+  DangerParams paper_rule = danger;
+  paper_rule.model = DangerModel::kPaper;
 
   BoxGenerator generator(params.range, params.seed);
-  std::int64_t all_dangerous = 0;
+  std::int64_t all_dangerous = 0, paper_rule_dangerous = 0;
   for (int i = 1; i <= params.max_boxes; ++i) {
     BoxCountResult row;
     row.boxes = i;
@@ -250,9 +255,14 @@ MonteCarloResult runMonteCarlo(const MonteCarloParams& params) {
         const int section = sectionIndex(a.section);
         ++result.by_section[section];
         result.toward_by_section[section] += a.moving_toward;
+        const bool by_paper_rule = params.model == DangerModel::kPaper
+                                       ? a.dangerous
+                                       : assessDanger(box.kinematics, paper_rule).dangerous;
+        paper_rule_dangerous += by_paper_rule;
         if (a.dangerous) {
           ++dangerous;
           ++result.dangerous_by_section[section];
+          result.dangerous_by_both += by_paper_rule;
         }
       }
       const double pct_danger = double(dangerous) / i;
@@ -272,6 +282,7 @@ MonteCarloResult runMonteCarlo(const MonteCarloParams& params) {
   }
   result.mean_of_averages /= params.max_boxes;
   result.pooled_fraction = double(all_dangerous) / double(result.boxes_assessed);
+  result.paper_rule_pooled_fraction = double(paper_rule_dangerous) / double(result.boxes_assessed);
   result.dependence = testDependenceOnBoxCount(result.rows);
   return result;
 }

@@ -6,9 +6,11 @@
 // include/icanc/core/monte_carlo.hpp.
 //
 //   icanc_montecarlo [--n 60] [--trials 1000] [--seed 1] [--reaction-time 1] [--range N]
-//                    [--half-width 0.7] [--csv out.csv] [--quiet]
+//                    [--half-width 0.7] [--model paper|predictive] [--csv out.csv] [--quiet]
 // --range sets the upper end of d and s (default: n, as in the paper); --quiet prints only the
-// summary, not the per-count table.
+// summary, not the per-count table. --model predictive puts the same boxes through the
+// predictive danger model (issue 9) and prints the paper's rule on them beside it; the analytic
+// column stays the paper's rule's P(D).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -22,7 +24,8 @@ namespace {
 void usage() {
   std::fprintf(stderr,
                "usage: icanc_montecarlo [--n 60] [--trials 1000] [--seed 1] [--reaction-time 1]\n"
-               "                        [--range N] [--half-width 0.7] [--csv out.csv] [--quiet]\n");
+               "                        [--range N] [--half-width 0.7] [--model paper|predictive]\n"
+               "                        [--csv out.csv] [--quiet]\n");
 }
 
 long toLong(const std::string& flag, const char* text) {
@@ -58,6 +61,7 @@ int main(int argc, char** argv) {
       else if (a == "--reaction-time") p.reaction_time_s = toDouble(a, argv[++i]);
       else if (a == "--range") { p.range = int(toLong(a, argv[++i])); range_given = true; }
       else if (a == "--half-width") p.half_width_m = toDouble(a, argv[++i]);
+      else if (a == "--model") p.model = icanc::parseDangerModel(argv[++i]);
       else if (a == "--csv") csv_path = argv[++i];
       else throw std::invalid_argument("unknown argument: " + a);
     }
@@ -80,7 +84,9 @@ int main(int argc, char** argv) {
   }
   const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  std::printf("ICanC Monte Carlo (paper Algorithm 1) through icanc::assessDanger\n");
+  const bool paper_model = p.model == icanc::DangerModel::kPaper;
+  std::printf("ICanC Monte Carlo (paper Algorithm 1) through icanc::assessDanger, model %s\n",
+              icanc::toString(p.model));
   std::printf("box counts 1..%d, %d trials each; d, s ~ unif{1..%d}, psi ~ unif{1..360}; "
               "alpha = %g s; half-width %g m; seed %llu\n",
               p.max_boxes, p.trials, p.range, p.reaction_time_s, p.half_width_m,
@@ -93,13 +99,23 @@ int main(int argc, char** argv) {
       std::printf("%5d  %14.4f  %12.4f  %9.4f  %+11.4f\n", row.boxes, row.mean_fraction,
                   row.std_fraction, row.analytic, row.mean_fraction - row.analytic);
   }
-  std::printf("\nmean of the %d averages     %.4f   analytic %.4f   difference %+.4f\n",
-              p.max_boxes, r.mean_of_averages, r.analytic, r.mean_of_averages - r.analytic);
+  if (paper_model)
+    std::printf("\nmean of the %d averages     %.4f   analytic %.4f   difference %+.4f\n",
+                p.max_boxes, r.mean_of_averages, r.analytic, r.mean_of_averages - r.analytic);
+  else
+    std::printf("\nmean of the %d averages     %.4f   (the paper's rule's analytic P(D) %.4f)\n",
+                p.max_boxes, r.mean_of_averages, r.analytic);
   if (!alpha_one)
     std::printf("(the paper's formula 150/360 (1/2 + 1/(2n)) = %.4f holds for alpha = 1 only; "
                 "analytic above is the exact sum for alpha = %g)\n", r.paper_analytic, p.reaction_time_s);
   std::printf("pooled                       %.4f   over %lld boxes\n", r.pooled_fraction,
               static_cast<long long>(r.boxes_assessed));
+  if (!paper_model)
+    std::printf("paper's rule, same boxes     %.4f   both flag %.4f (%.1f %% of the predictive "
+                "model's)\n",
+                r.paper_rule_pooled_fraction, double(r.dangerous_by_both) / r.boxes_assessed,
+                r.pooled_fraction > 0.0 ? 100.0 * r.dangerous_by_both / (r.pooled_fraction * r.boxes_assessed)
+                                        : 0.0);
   const char* names[3] = {"left", "front", "right"};
   for (int s = 0; s < 3; ++s)
     std::printf("%-28s %5.1f %% of boxes, moving toward %.4f, dangerous %.4f\n",

@@ -87,8 +87,22 @@ TEST(Evaluate, ADetectionOfAnUnscoredObjectIsNotScored) {
   EXPECT_EQ(r.false_alarms_unmatched, 1u);
   EXPECT_EQ(r.danger.tp + r.danger.fn + r.danger.tn, 0u);
   EXPECT_EQ(r.detection.fp, 1u);
-  ASSERT_EQ(rows.size(), 1u);
-  EXPECT_EQ(rows[0].detection.id, 12u);
+  // The two dangerous detections of unscored objects light the lamp: listed as DC, not counted.
+  ASSERT_EQ(rows.size(), 3u);
+  std::vector<std::uint32_t> dont_care;
+  for (const ScoredRow& row : rows) {
+    if (row.outcome == Outcome::kFalsePositive) {
+      EXPECT_FALSE(row.has_truth);
+      EXPECT_EQ(row.detection.id, 12u);
+      continue;
+    }
+    ASSERT_EQ(row.outcome, Outcome::kDontCare);
+    ASSERT_TRUE(row.has_truth && row.has_detection);
+    EXPECT_EQ(row.truth.id, row.detection.id - 9u);
+    dont_care.push_back(row.detection.id);
+  }
+  EXPECT_EQ(dont_care, (std::vector<std::uint32_t>{10u, 11u}));
+  EXPECT_NE(toCsv(rows).find(",DC,1,"), std::string::npos);
 }
 
 // Two clusters on one car (its rear face, and a roof scan line at a fixed range from the sensor):

@@ -2,6 +2,8 @@
 // states, judged by the DangerDetector's own assessDanger, land on P(D) = 150/360 (1/2 + 1/(2n)).
 // A change to the danger rule (the <= of E1, the windows, the sections) moves these numbers.
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -163,6 +165,61 @@ TEST(MonteCarlo, ReactionTimeEntersThroughTheDangerRule) {
   EXPECT_NEAR(r.analytic, analyticDanger(60, 2.0), 1e-15);
   EXPECT_NEAR(r.pooled_fraction, r.analytic, 4 * binomialSigma(r.analytic, double(r.boxes_assessed)));
   EXPECT_GT(r.pooled_fraction, 0.3);  // far from alpha = 1's 0.21
+}
+
+// The predictive model on Algorithm 1's boxes (corridor |y| <= 0.7 + 0.3 m, 0 <= x <= 1.5 m),
+// cases worked by hand where it and the paper's rule disagree.
+TEST(BoxGenerator, PredictiveModelOnTheSameBoxes) {
+  const BoxGenerator gen(60, 1);
+  DangerParams paper, predictive;
+  paper.reaction_time_s = predictive.reaction_time_s = 1.0;
+  predictive.model = DangerModel::kPredictive;
+  const auto both = [&](int d, int s, int psi, int sector) {
+    const ObjectKinematics k = gen.make(d, s, psi, sector).kinematics;
+    return std::make_pair(assessDanger(k, paper), assessDanger(k, predictive));
+  };
+  // 4 m ahead closing at 3 m/s: 4 > 3 * 1 for the paper, but its near face reaches the corridor's
+  // end (1.5 m) after 2.5 / 3 s.
+  auto r = both(4, 3, 181, 90);
+  EXPECT_FALSE(r.first.dangerous);
+  EXPECT_TRUE(r.second.dangerous);
+  EXPECT_NEAR(r.second.time_to_corridor_s, 2.5 / 3.0, predictive.time_step_s);
+  // 3 m away at -45.5 deg (x >= 2.1 m), crossing to the left at 5 m/s: the paper's rule flags it
+  // (right section, heading 90.5), but it crosses 0.6 m beyond the corridor's end.
+  r = both(3, 5, 91, 45);
+  EXPECT_TRUE(r.first.dangerous);
+  EXPECT_FALSE(r.second.dangerous);
+  // Standing in the corridor 1 m ahead, moving away: the paper's windows say safe, it is in the path.
+  r = both(1, 1, 1, 90);
+  EXPECT_FALSE(r.first.dangerous);
+  EXPECT_TRUE(r.second.dangerous);
+  EXPECT_EQ(r.second.time_to_corridor_s, 0.0);
+  // 20 m ahead closing at 10 m/s: neither.
+  r = both(20, 10, 181, 90);
+  EXPECT_FALSE(r.first.dangerous);
+  EXPECT_FALSE(r.second.dangerous);
+}
+
+TEST(MonteCarlo, PredictiveRunScoresThePaperRuleOnTheSameBoxes) {
+  MonteCarloParams p;
+  p.max_boxes = 10;
+  p.trials = 300;
+  p.seed = kSeed;
+  const MonteCarloResult paper = runMonteCarlo(p);
+  EXPECT_EQ(paper.paper_rule_pooled_fraction, paper.pooled_fraction);
+  EXPECT_EQ(double(paper.dangerous_by_both), paper.pooled_fraction * paper.boxes_assessed);
+  p.model = DangerModel::kPredictive;
+  const MonteCarloResult predictive = runMonteCarlo(p);
+  ASSERT_EQ(predictive.boxes_assessed, paper.boxes_assessed);
+  EXPECT_EQ(predictive.paper_rule_pooled_fraction, paper.pooled_fraction);  // same boxes
+  // The corridor is a 1.5 m x 2 m patch of a 60 m half disc: far fewer boxes reach it within 1 s.
+  EXPECT_LT(predictive.pooled_fraction, 0.5 * paper.pooled_fraction);
+  EXPECT_GT(predictive.pooled_fraction, 0.0);
+  const double n = double(predictive.boxes_assessed);
+  EXPECT_LE(double(predictive.dangerous_by_both), predictive.pooled_fraction * n);
+  EXPECT_GT(predictive.dangerous_by_both, 0);
+  p.model = DangerModel::kInvalid;
+  EXPECT_THROW(runMonteCarlo(p), std::invalid_argument);
 }
 
 TEST(MonteCarlo, SeededRunsRepeat) {

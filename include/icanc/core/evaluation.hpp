@@ -111,14 +111,19 @@ struct EvalReport {
 
 // One object-frame of the danger score and what decided it: an eligible true object (with the
 // detection matched to it, or the dangerous fragment that flagged it), or a dangerous detection of
-// no true object (a false alarm). Counting the rows by outcome gives EvalReport::danger.
-enum class Outcome : std::uint8_t { kTruePositive, kFalsePositive, kFalseNegative, kTrueNegative };
-const char* toString(Outcome outcome);  // "TP", "FP", "FN", "TN"
+// no true object (a false alarm). Counting the TP/FP/FN/TN rows gives EvalReport::danger.
+// kDontCare rows are dangerous detections on a true object that is not scored (too few returns,
+// out of range or view): not counted, listed because they light the lamp (duty_cycle).
+enum class Outcome : std::uint8_t {
+  kTruePositive, kFalsePositive, kFalseNegative, kTrueNegative, kDontCare
+};
+const char* toString(Outcome outcome);  // "TP", "FP", "FN", "TN", "DC"
 
 struct ScoredRow {
   double t = 0.0;
   Outcome outcome = Outcome::kTrueNegative;
   bool has_truth = false;   // false: a false alarm of no true object
+                            // (a kDontCare row has the unscored object)
   TruthObject truth;
   bool has_detection = false;  // the matched detection, else the flagging fragment, else none
   bool fragment = false;       // the detection is a fragment of the true object, not its match
@@ -128,7 +133,8 @@ struct ScoredRow {
 // Distance from a point to the oriented footprint of a true object (0 when inside).
 double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point);
 
-// `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger.
+// `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger, and
+// one kDontCare row per dangerous detection on an unscored true object.
 EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
                     std::vector<ScoredRow>* rows = nullptr);
 

@@ -52,6 +52,11 @@ struct MonteCarloParams {
   double reaction_time_s = 1.0;  // alpha
   double half_width_m = 0.7;     // sections' half-width w (moves boxes between sections only)
   std::uint64_t seed = 1;
+  // The danger rule assessDanger applies (DangerParams::model). kPredictive keeps DangerParams'
+  // corridor defaults (margin 0.3 m, bumper 0.5 m, stopping margin 1 m) with half_width_m and
+  // reaction_time_s from here; the generated boxes have exact velocities (velocity_std 0) and no
+  // footprint parts. The paper's rule is also run on the very same boxes, for comparison.
+  DangerModel model = DangerModel::kPaper;
 };
 
 // Empty when valid, else why not.
@@ -124,6 +129,10 @@ struct MonteCarloResult {
   std::int64_t by_section[3] = {0, 0, 0};
   std::int64_t toward_by_section[3] = {0, 0, 0};
   std::int64_t dangerous_by_section[3] = {0, 0, 0};
+  // The paper's rule on the same boxes (equal to pooled_fraction when params.model is kPaper), and
+  // how many boxes both rules flag.
+  double paper_rule_pooled_fraction = 0.0;
+  std::int64_t dangerous_by_both = 0;
   DependenceTest dependence;
 };
 
