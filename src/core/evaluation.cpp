@@ -47,6 +47,29 @@ const TruthObject* unscoredObjectAt(const std::vector<TruthObject>& all_truth,
   return nullptr;
 }
 
+// Half extents along x and y of the true oriented footprint's axis-aligned bounds.
+Eigen::Vector2d axisAlignedReach(const TruthObject& o) {
+  const Eigen::Vector2d half = 0.5 * o.size.cwiseAbs();
+  const double c = std::abs(std::cos(o.yaw)), s = std::abs(std::sin(o.yaw));
+  return Eigen::Vector2d(c * half.x() + s * half.y(), s * half.x() + c * half.y());
+}
+
+// What a perfect tracker would hand the danger model for a true object.
+ObjectKinematics perfectTrack(const TruthObject& o) {
+  ObjectKinematics k;
+  const Eigen::Vector2d reach = axisAlignedReach(o);
+  k.center << o.center, 0.0;
+  k.aabb_min << o.center - reach, 0.0;
+  k.aabb_max << o.center + reach, 0.0;
+  if (o.has_velocity) k.velocity << o.velocity, 0.0;
+  return k;
+}
+
+Outcome outcomeOf(bool truly_dangerous, bool predicted) {
+  return truly_dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
+                         : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
+}
+
 void count(Confusion& c, Outcome outcome) {
   switch (outcome) {
     case Outcome::kTruePositive: ++c.tp; break;
@@ -105,6 +128,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   lamp.stale_timeout_s = 0.0;  // frames are given, not awaited
   LightController truth_lamp(lamp);
   std::size_t truth_on_frames = 0;
+  DangerHysteresis perfect_hysteresis(params.danger);
+  const bool hysteresis = params.danger.model == DangerModel::kPredictive;
 
   struct Episode {
     bool open = false;
@@ -139,6 +164,11 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     for (const DetectedObject& d : f.detections)
       if (inScope(d.center, params)) dets.push_back(d);
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
+    for (const TruthObject& o : truth) {
+      const DangerAssessment a = assessDanger(perfectTrack(o), params.danger);
+      const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
+      count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
+    }
 
     // Detections left over by the one-to-one matching that lie within the match distance of a
     // true object's footprint are fragments of it (a car's roof scan line, a split wall): they
@@ -181,9 +211,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         }
         last_match[o.id] = LastMatch{d.id, offset, true};
         if (d.has_aabb) {
-          const Eigen::Vector2d half = 0.5 * o.size.cwiseAbs();
-          const double c = std::abs(std::cos(o.yaw)), s = std::abs(std::sin(o.yaw));
-          const Eigen::Vector2d reach(c * half.x() + s * half.y(), s * half.x() + c * half.y());
+          const Eigen::Vector2d reach = axisAlignedReach(o);
           const Eigen::Vector2d tmin = o.center - reach, tmax = o.center + reach;
           near_bias.push_back(o.center.x() >= 0.0 ? d.aabb_min.x() - tmin.x()
                                                   : tmax.x() - d.aabb_max.x());
@@ -207,9 +235,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       // Danger per object-frame: its detection or one of its fragments flagged.
       const bool by_match = found && dets[m[i]].dangerous;
       const bool predicted = by_match || flagged_by[i] >= 0;
-      const Outcome outcome =
-          o.dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
-                      : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
+      const Outcome outcome = outcomeOf(o.dangerous, predicted);
       count(r.danger, outcome);
       if (rows) {
         ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};
@@ -292,7 +318,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
       "  true box beyond the detected one (median): near face %.3f m, sides %.3f m (n %zu)\n"
       "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
-      "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n",
+      "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n"
+      "danger model on perfect tracks: TP %llu FP %llu FN %llu TN %llu, precision %.2f %%  recall %.2f %%\n",
       title.c_str(), r.frames, r.processed,
       static_cast<unsigned long long>(r.danger.tp), static_cast<unsigned long long>(r.danger.fp),
       static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
@@ -303,7 +330,12 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
       r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples, r.latency_p50_ms,
       r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
-      100 * r.duty_cycle, 100 * r.truth_duty_cycle);
+      100 * r.duty_cycle, 100 * r.truth_duty_cycle,
+      static_cast<unsigned long long>(r.perfect_tracks.tp),
+      static_cast<unsigned long long>(r.perfect_tracks.fp),
+      static_cast<unsigned long long>(r.perfect_tracks.fn),
+      static_cast<unsigned long long>(r.perfect_tracks.tn), 100 * r.perfect_tracks.precision(),
+      100 * r.perfect_tracks.recall());
   return buf;
 }
 
@@ -329,7 +361,9 @@ std::string toJson(const EvalReport& r, const std::string& name) {
     << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
     << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
     << ", \"duty_cycle\": " << r.duty_cycle
-    << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << "}";
+    << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << ", ";
+  conf("perfect_tracks", r.perfect_tracks);
+  j << "}";
   return j.str();
 }
 

@@ -15,6 +15,7 @@
 #include "icanc/GroundTruthArray.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
+#include "icanc/ros/param_reader.hpp"
 
 namespace icanc {
 namespace {
@@ -146,6 +147,16 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
     if (!ros::ok()) break;
   }
   return frames;
+}
+
+void readGraphParams(const std::string& ns, EvalParams& params) {
+  const ros::NodeHandle lamp(ns + "/light_controller");
+  lamp.param("tau_s", params.lamp_tau_s, params.lamp_tau_s);
+  lamp.param("recheck_below_s", params.lamp_recheck_below_s, params.lamp_recheck_below_s);
+  ParamReader danger(ros::NodeHandle(ns + "/danger_detector"));
+  readParams(danger, params.danger);
+  const std::string why = validate(params.danger) + danger.error();
+  if (!why.empty()) throw std::runtime_error(ns + "/danger_detector: " + why);
 }
 
 }  // namespace icanc

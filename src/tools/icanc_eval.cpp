@@ -48,13 +48,10 @@ int main(int argc, char** argv) {
     }
   }
   ros::NodeHandle nh;
-  // The graph's light controller, for the duty cycle of a perfect danger detector.
-  nh.param(replay.ns + "/light_controller/tau_s", params.lamp_tau_s, params.lamp_tau_s);
-  nh.param(replay.ns + "/light_controller/recheck_below_s", params.lamp_recheck_below_s,
-           params.lamp_recheck_below_s);
   ros::AsyncSpinner spinner(2);
   spinner.start();
   try {
+    icanc::readGraphParams(replay.ns, params);  // light controller, danger detector
     const auto frames = icanc::replayBag(nh, replay);
     std::vector<icanc::ScoredRow> rows;
     const icanc::EvalReport report = icanc::evaluate(frames, params, &rows);

@@ -274,6 +274,39 @@ TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
   EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
 }
 
+// The danger model on perfect tracks: each scored true object's own box and velocity, whatever
+// was detected. A 0.5 m pedestrian 4 m ahead closing at 2 m/s (truly dangerous) and one standing
+// 3 m to the side (safe), five frames at 10 Hz, nothing detected; zebra's corridor (x <= 1.5 m).
+TEST(Evaluate, DangerModelOnPerfectTracks) {
+  const auto run = [](DangerModel model) {
+    std::vector<EvalFrame> frames;
+    for (int i = 0; i < 5; ++i) {
+      TruthObject walker = truth(1, 4.0 - 0.2 * i, 0.0, true, 1.0), aside = truth(2, 3.0, 3.0, false);
+      walker.size = aside.size = Eigen::Vector2d(0.5, 0.5);
+      walker.velocity = Eigen::Vector2d(-2.0, 0.0);
+      aside.velocity = Eigen::Vector2d::Zero();
+      frames.push_back(frame(0.1 * i, false, {walker, aside}, {}));
+    }
+    EvalParams p;
+    p.danger.model = model;
+    const EvalReport r = evaluate(frames, p);
+    EXPECT_EQ(r.danger.fn, 5u);  // nothing was detected
+    EXPECT_EQ(r.danger.tn, 5u);
+    EXPECT_EQ(r.perfect_tracks.tn, 5u);
+    EXPECT_EQ(r.perfect_tracks.fp, 0u);
+    EXPECT_NE(toJson(r, "t").find("\"perfect_tracks\": {\"tp\": " + std::to_string(r.perfect_tracks.tp)),
+              std::string::npos);
+    return r.perfect_tracks;
+  };
+  // The paper's rule: 3.75 m <= 2 m/s * 3 s, heading 180 in the front section, every frame.
+  EXPECT_EQ(run(DangerModel::kPaper).tp, 5u);
+  // Predictive: the near face reaches 1.5 m after 1.125 s at the first frame, more than
+  // immediate_ttc_s (1 s): the hysteresis waits for the second frame, as it does on the vehicle.
+  const Confusion predictive = run(DangerModel::kPredictive);
+  EXPECT_EQ(predictive.tp, 4u);
+  EXPECT_EQ(predictive.fn, 1u);
+}
+
 // The duty cycle of a perfect danger detector: the paper's light controller given the ground
 // truth's danger each frame. 50 frames at 10 Hz, danger at t = 1.0 only: on for tau; a second
 // danger at t = 2.5, with 0.5 s left (<= recheck_below_s), restarts the timer.

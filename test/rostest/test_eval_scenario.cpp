@@ -51,9 +51,7 @@ TEST(EvalScenario, MetricsWithinThresholds) {
   ros::NodeHandle nh;
   ReplayOptions options;
   options.bag = bag;
-  nh.param(options.ns + "/light_controller/tau_s", params.lamp_tau_s, params.lamp_tau_s);
-  nh.param(options.ns + "/light_controller/recheck_below_s", params.lamp_recheck_below_s,
-           params.lamp_recheck_below_s);
+  readGraphParams(options.ns, params);
   const std::vector<EvalFrame> frames = replayBag(nh, options);
   const EvalReport r = evaluate(frames, params);
   std::printf("%s", toTable(r, kitti_frames ? "kitti_0000" : scenario).c_str());

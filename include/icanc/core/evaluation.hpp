@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "icanc/core/danger.hpp"
+
 namespace icanc {
 
 struct TruthObject {
@@ -60,6 +62,8 @@ struct EvalParams {
   // a perfect danger detector would have had (EvalReport::truth_duty_cycle).
   double lamp_tau_s = 2.0;
   double lamp_recheck_below_s = 1.0;
+  // The graph's danger detector (danger_detector/*), for EvalReport::perfect_tracks.
+  DangerParams danger;
 };
 
 struct Confusion {
@@ -107,6 +111,12 @@ struct EvalReport {
   // processed frame, whether any true object is dangerous. What danger there is keeps the lamp on
   // at least this long; a lower duty_cycle means missed or late warnings.
   double truth_duty_cycle = 0.0;
+  // The danger model (EvalParams::danger, with its hysteresis per true id when predictive) given
+  // perfect perception: each scored true object's own box (its axis-aligned bounds), relative
+  // velocity (zero where the labels give none) and no velocity uncertainty, scored per
+  // object-frame as `danger`. What it misses is the model's, or the truth's (a pedestrian who will
+  // stop, or start, is labelled by where it will be): `danger` below this is perception's.
+  Confusion perfect_tracks;
 };
 
 // One object-frame of the danger score and what decided it: an eligible true object (with the

@@ -27,4 +27,9 @@ struct ReplayOptions {
 // Throws std::runtime_error when the bag cannot be read or the graph does not come up.
 std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& options);
 
+// What the evaluation takes from the graph's parameters under `ns`: the light controller's timer
+// (EvalParams::lamp_tau_s, lamp_recheck_below_s) and the danger detector's parameters
+// (EvalParams::danger). Throws std::runtime_error when the danger parameters are invalid.
+void readGraphParams(const std::string& ns, EvalParams& params);
+
 }  // namespace icanc
