@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Danger fraction vs number of boxes (paper Fig. "Results from Monte Carlo Simulation"), from the
-CSV of icanc_montecarlo --csv.
+CSV of icanc_montecarlo --csv (the paper model; its analytic column is the paper rule's P(D)).
 
     scripts/plot_montecarlo.py MC.csv OUT.png
 """

@@ -147,13 +147,13 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::fprintf(f, "boxes,trials,mean_fraction,std_fraction,analytic,difference,dangerous,total_boxes,"
-                    "range,reaction_time_s,seed\n");
+                    "range,reaction_time_s,seed,model\n");
     for (const auto& row : r.rows)
-      std::fprintf(f, "%d,%d,%.6f,%.6f,%.6f,%.6f,%lld,%lld,%d,%g,%llu\n", row.boxes, row.trials,
+      std::fprintf(f, "%d,%d,%.6f,%.6f,%.6f,%.6f,%lld,%lld,%d,%g,%llu,%s\n", row.boxes, row.trials,
                    row.mean_fraction, row.std_fraction, row.analytic, row.mean_fraction - row.analytic,
                    static_cast<long long>(row.dangerous),
                    static_cast<long long>(row.boxes) * row.trials, p.range, p.reaction_time_s,
-                   static_cast<unsigned long long>(p.seed));
+                   static_cast<unsigned long long>(p.seed), icanc::toString(p.model));
     std::fclose(f);
     std::printf("wrote %s\n", csv_path.c_str());
   }
