@@ -155,7 +155,7 @@ void readGraphParams(const std::string& ns, EvalParams& params) {
   lamp.param("recheck_below_s", params.lamp_recheck_below_s, params.lamp_recheck_below_s);
   ParamReader danger(ros::NodeHandle(ns + "/danger_detector"));
   readParams(danger, params.danger);
-  const std::string why = validate(params.danger) + danger.error();
+  const std::string why = danger.error().empty() ? validate(params.danger) : danger.error();
   if (!why.empty()) throw std::runtime_error(ns + "/danger_detector: " + why);
 }
 
