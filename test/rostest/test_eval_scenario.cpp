@@ -64,6 +64,8 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"min_danger_accuracy", r.danger.accuracy()},   {"min_detection_recall", r.detection.recall()},
       {"min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
       {"min_lead_time_s", lead_min},
+      {"min_perfect_precision", r.perfect_tracks.precision()},
+      {"min_perfect_recall", r.perfect_tracks.recall()},
   };
   const Check maxes[] = {
       {"max_duty_cycle", r.duty_cycle},
