@@ -5,6 +5,8 @@
 #include <iterator>
 #include <sstream>
 
+#include "icanc/core/ego_motion.hpp"
+
 namespace icanc {
 
 const char* toString(Section section) {
@@ -102,6 +104,14 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   const double length = params.vehicle_front_m + params.stopping_margin_m;
   const auto sigmaOf = [](double s) { return std::isfinite(s) ? std::max(0.0, s) : 0.0; };
   const double sigma_x = sigmaOf(object.velocity_std.x()), sigma_y = sigmaOf(object.velocity_std.y());
+  // The object's velocity over ground: its relative velocity plus the velocity of the
+  // vehicle-fixed point where it is (relativeVelocity's inverse, planar).
+  const Eigen::Vector2d ego_v = object.ego_velocity;
+  const double ego_w = object.ego_yaw_rate;
+  const Eigen::Vector2d ground_v =
+      object.velocity.head<2>() + ego_v +
+      ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  const bool turning = ego_w != 0.0;
   const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
   for (int i = 0; i <= steps; ++i) {
     const double t = std::min(i * params.time_step_s, params.reaction_time_s);
@@ -109,13 +119,28 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
                           std::min(params.velocity_std_k * sigma_x * t, params.uncertainty_cap_m);
     const double grow_y = params.footprint_margin_m +
                           std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
-    // The corridor, moved back by the object's motion and grown by its uncertainty, against the
-    // object where it is now: its axis-aligned box first, then (only then) its parts.
-    const double dx = object.velocity.x() * t, dy = object.velocity.y() * t;
-    const Eigen::Vector2d lo(-dx - grow_x, -half_width - dy - grow_y);
-    const Eigen::Vector2d hi(length - dx + grow_x, half_width - dy + grow_y);
+    // Where the vehicle will be, and the object's displacement seen from there.
+    const PlanarPose ego = predictEgoPose(ego_v, ego_w, t);
+    const Eigen::Rotation2Dd to_future(-ego.yaw);
+    const Eigen::Vector2d shift = ground_v * t - ego.position;
+    // A part of the footprint, moved and seen from the future vehicle frame: the bounds of its
+    // corners (exact for a vehicle going straight, where it only moves).
+    const auto moved = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
+      if (!turning) return Eigen::AlignedBox2d(min + shift, max + shift);
+      Eigen::AlignedBox2d box;
+      for (int corner = 0; corner < 4; ++corner) {
+        const Eigen::Vector2d p(corner & 1 ? max.x() : min.x(), corner & 2 ? max.y() : min.y());
+        box.extend(to_future * (p + shift));
+      }
+      return box;
+    };
+    // The corridor grown by the uncertainty against the moved parts: the axis-aligned box first,
+    // then (only then) its parts.
+    const Eigen::Vector2d lo(-grow_x, -half_width - grow_y);
+    const Eigen::Vector2d hi(length + grow_x, half_width + grow_y);
     const auto overlaps = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
-      return (max.array() >= lo.array()).all() && (min.array() <= hi.array()).all();
+      const Eigen::AlignedBox2d b = moved(min, max);
+      return (b.max().array() >= lo.array()).all() && (b.min().array() <= hi.array()).all();
     };
     if (!overlaps(object.aabb_min.head<2>(), object.aabb_max.head<2>())) continue;
     if (object.footprint.empty()) return t;

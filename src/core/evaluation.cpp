@@ -54,9 +54,11 @@ Eigen::Vector2d axisAlignedReach(const TruthObject& o) {
   return Eigen::Vector2d(c * half.x() + s * half.y(), s * half.x() + c * half.y());
 }
 
-// What a perfect tracker would hand the danger model for a true object.
-ObjectKinematics perfectTrack(const TruthObject& o) {
+// What a perfect tracker would hand the danger model for a true object, with the frame's ego twist.
+ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame) {
   ObjectKinematics k;
+  k.ego_velocity = frame.ego_velocity;
+  k.ego_yaw_rate = frame.ego_yaw_rate;
   const Eigen::Vector2d reach = axisAlignedReach(o);
   k.center << o.center, 0.0;
   k.aabb_min << o.center - reach, 0.0;
@@ -121,7 +123,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     bool consecutive = false;
   };
   std::map<std::uint32_t, LastMatch> last_match;
-  std::vector<double> near_bias, side_bias;
+  std::vector<double> near_bias, side_bias, static_speeds;
   LightControllerParams lamp;
   lamp.tau_s = params.lamp_tau_s;
   lamp.recheck_below_s = params.lamp_recheck_below_s;
@@ -150,6 +152,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   for (const EvalFrame& f : frames) {
     if (!f.processed) continue;
     ++r.processed;
+    const bool has_ego = f.ego_motion;
     on_frames += f.lamp_on;
     bool any_truly_dangerous = false;
     for (const TruthObject& o : f.truth) any_truly_dangerous |= o.dangerous;
@@ -165,7 +168,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (inScope(d.center, params)) dets.push_back(d);
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
     for (const TruthObject& o : truth) {
-      const DangerAssessment a = assessDanger(perfectTrack(o), params.danger);
+      const DangerAssessment a = assessDanger(perfectTrack(o, f), params.danger);
       const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
       count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
     }
@@ -217,6 +220,12 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
                                                   : tmax.x() - d.aabb_max.x());
           side_bias.push_back(d.aabb_min.y() - tmin.y());
           side_bias.push_back(tmax.y() - d.aabb_max.y());
+        }
+        if (o.has_velocity && d.age >= params.settled_age && has_ego) {
+          const Eigen::Vector2d frame_velocity =
+              f.ego_velocity + f.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
+          if ((o.velocity + frame_velocity).norm() < params.static_speed_mps)
+            static_speeds.push_back(d.velocity_over_ground.norm());
         }
         if (o.has_velocity) {
           const double e2 = (d.velocity - o.velocity).squaredNorm();
@@ -295,6 +304,9 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   r.box_bias_near_m = percentile(near_bias, 0.5);
   r.box_bias_side_m = percentile(side_bias, 0.5);
   r.box_bias_samples = near_bias.size();
+  r.static_speed_p50_mps = percentile(static_speeds, 0.5);
+  r.static_speed_p90_mps = percentile(static_speeds, 0.9);
+  r.static_speed_samples = static_speeds.size();
   r.latency_p50_ms = percentile(latencies, 0.50);
   r.latency_p90_ms = percentile(latencies, 0.90);
   r.latency_p99_ms = percentile(latencies, 0.99);
@@ -317,6 +329,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
       "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
       "  true box beyond the detected one (median): near face %.3f m, sides %.3f m (n %zu)\n"
+      "  speed over ground of static objects' settled tracks: p50 %.2f  p90 %.2f m/s (n %zu)\n"
       "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
       "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n"
       "danger model on perfect tracks: TP %llu FP %llu FN %llu TN %llu, precision %.2f %%  recall %.2f %%\n",
@@ -328,7 +341,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
       r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
-      r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples, r.latency_p50_ms,
+      r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples,
+      r.static_speed_p50_mps, r.static_speed_p90_mps, r.static_speed_samples, r.latency_p50_ms,
       r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
       100 * r.duty_cycle, 100 * r.truth_duty_cycle,
       static_cast<unsigned long long>(r.perfect_tracks.tp),
@@ -358,6 +372,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
     << ", \"offset_step_rms_m\": " << r.offset_step_rms_m
     << ", \"box_bias_near_m\": " << r.box_bias_near_m
     << ", \"box_bias_side_m\": " << r.box_bias_side_m
+    << ", \"static_speed_mps\": {\"p50\": " << r.static_speed_p50_mps << ", \"p90\": "
+    << r.static_speed_p90_mps << ", \"n\": " << r.static_speed_samples << "}"
     << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
     << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
     << ", \"duty_cycle\": " << r.duty_cycle

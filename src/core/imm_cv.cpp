@@ -87,4 +87,9 @@ void ImmConstantVelocity::mixture(const std::array<double, kModes>& weights, Vec
 
 void ImmConstantVelocity::combine() { mixture(mu_, x_, P_); }
 
+void ImmConstantVelocity::changeFrame(const Eigen::Isometry3d& motion) {
+  for (ConstantVelocityKalman& filter : filters_) filter.changeFrame(motion);
+  combine();
+}
+
 }  // namespace icanc

@@ -52,4 +52,13 @@ void ConstantVelocityKalman::update(const Eigen::Vector3d& measured_position,
   P_ = 0.5 * (P + P.transpose());
 }
 
+void ConstantVelocityKalman::changeFrame(const Eigen::Isometry3d& motion) {
+  Matrix6 T = Matrix6::Zero();
+  T.topLeftCorner<3, 3>() = motion.linear();
+  T.bottomRightCorner<3, 3>() = motion.linear();
+  x_ = T * x_;
+  x_.head<3>() += motion.translation();
+  P_ = T * P_ * T.transpose();
+}
+
 }  // namespace icanc

@@ -93,7 +93,8 @@ MultiObjectTracker::UpdateResult ObstacleDetector::track(double stamp_s, StageTi
   view.region_min = params_.prep.roi_min.head<2>();
   view.region_max = params_.prep.roi_max.head<2>();
   view.region_tolerance_m = fast_ ? params_.fast.cell_m : params_.prep.voxel_leaf_m;
-  const auto result = tracker_.update(stamp_s, detections_, view);
+  const auto result = tracker_.update(stamp_s, detections_, view, frame_motion_);
+  frame_motion_.setIdentity();
   if (times) times->track_ms = fastNowMs() - t0;
   return result;
 }

@@ -20,6 +20,33 @@ void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
   }
 }
 
+// Re-expresses the box in another frame (the vehicle moved): the centre moves exactly, the bounds
+// and footprint parts become the axis-aligned bounds of their rotated corners, the yaw turns.
+void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
+  const Eigen::Isometry3f m = motion.cast<float>();
+  const auto planarBounds = [&m](Eigen::Vector2f& min, Eigen::Vector2f& max, float z) {
+    Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::infinity());
+    Eigen::Vector2f hi = -lo;
+    for (int corner = 0; corner < 4; ++corner) {
+      const Eigen::Vector3f p(corner & 1 ? max.x() : min.x(), corner & 2 ? max.y() : min.y(), z);
+      const Eigen::Vector2f q = (m * p).head<2>();
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    min = lo;
+    max = hi;
+  };
+  const float z_mid = 0.5f * (box.min.z() + box.max.z());
+  for (FootprintCell& cell : box.footprint) planarBounds(cell.min, cell.max, z_mid);
+  Eigen::Vector2f min = box.min.head<2>(), max = box.max.head<2>();
+  planarBounds(min, max, z_mid);
+  const float dz = (m * Eigen::Vector3f(box.center.x(), box.center.y(), z_mid)).z() - z_mid;
+  box.min << min, box.min.z() + dz;
+  box.max << max, box.max.z() + dz;
+  box.center = m * box.center;
+  box.yaw += static_cast<float>(std::atan2(motion.linear()(1, 0), motion.linear()(0, 0)));
+}
+
 // Which part of the box the filter follows along one planar axis.
 enum class Face : std::uint8_t { kMiddle, kMin, kMax };
 
@@ -144,7 +171,8 @@ void MultiObjectTracker::reset() {
 
 MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                                                             const std::vector<Box3D>& detections,
-                                                            const TrackerView& view) {
+                                                            const TrackerView& view,
+                                                            const Eigen::Isometry3d& motion) {
   UpdateResult result = UpdateResult::kOk;
   double dt = 0.0;
   if (has_stamp_) {
@@ -160,6 +188,15 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
   }
   last_stamp_s_ = stamp_s;
   has_stamp_ = true;
+
+  // The vehicle moved since the last frame: every track re-expressed in this frame's vehicle
+  // frame, so the filter's velocity is over ground and a parked car keeps standing still.
+  if (result == UpdateResult::kOk && !motion.isApprox(Eigen::Isometry3d::Identity())) {
+    for (Track& track : tracks_) {
+      track.filter.changeFrame(motion);
+      changeBoxFrame(track.box, motion);
+    }
+  }
 
   // Predict: the filter, and the box moves as its reference point does.
   const ImmModels models{params_.steady_accel_std, params_.accel_std,

@@ -60,7 +60,7 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     const bool predictive = params_.model == DangerModel::kPredictive;
     const double now = msg->header.stamp.toSec();
     for (Obstacle& o : out->obstacles) {
-      const ObjectKinematics k = toKinematics(o);
+      const ObjectKinematics k = toKinematics(o, msg->ego_twist);
       const DangerAssessment a = assessDanger(k, params_);
       o.section = static_cast<std::uint8_t>(a.section);
       o.closest_distance = static_cast<float>(a.distance_m);

@@ -15,8 +15,10 @@
 #include "icanc/ObstacleArray.h"
 #include "icanc/ObstacleDetectorConfig.h"
 #include "icanc/core/cloud_decode.hpp"
+#include "icanc/core/ego_motion.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 #include "icanc/ros/conversions.hpp"
+#include "icanc/ros/ego_pose_source.hpp"
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 #include "icanc/ros/zero_copy.hpp"
@@ -41,10 +43,29 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     if (why.empty()) why = rate_problem;
     acceptReconfigureKeys<ObstacleDetectorConfig>(reader);
     if (!checkParams(getName(), reader, why)) return;
+    // The vehicle's own motion: the namespace's ego_motion section, shared with LidarOdometry.
+    ParamReader ego_reader(ros::NodeHandle(nh, "ego_motion"));
+    EgoMotionParams ego_params;
+    std::string source = toString(ego_params.source);
+    ego_reader.read("source", source);
+    ego_params.source = parseEgoMotionSource(source);
+    ego_reader.read("fixed_frame", fixed_frame_);
+    ego_reader.read("max_speed_mps", ego_params.max_speed_mps);
+    ego_reader.read("max_yaw_rate_rad_s", ego_params.max_yaw_rate_rad_s);
+    ego_reader.read("max_wait_s", ego_params.max_wait_s);
+    ego_reader.read("max_extrapolation_s", ego_params.max_extrapolation_s);
+    ego_reader.accept("publish_tf");  // LidarOdometry's
+    std::string ego_why = validate(ego_params);
+    if (ego_why.empty() && fixed_frame_.empty()) ego_why = "ego_motion/fixed_frame must not be empty";
+    if (ego_why.empty() && ego_params.source != EgoMotionSource::kNone && target_frame_.empty())
+      ego_why = "ego_motion/source " + source + " needs ~target_frame (the vehicle frame)";
+    if (!checkParams(getName(), ego_reader, ego_why)) return;
+    ego_.setParams(ego_params);
 
     detector_.reset(new ObstacleDetector(params));
     tf_buffer_.reset(new tf2_ros::Buffer());
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
+    ego_source_.reset(new EgoPoseSource(nh, ego_params.source, fixed_frame_, *tf_buffer_));
 
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "lidar"));
     diagnostics_->updater().add("obstacle detector", this, &ObstacleDetectorNodelet::diagnose);
@@ -53,9 +74,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles", 5);
     sub_ = nh.subscribe("points", 2, &ObstacleDetectorNodelet::onCloud, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
-    NODELET_INFO("ObstacleDetector on %s -> %s (boxes in '%s')", sub_.getTopic().c_str(),
-                 nh.resolveName("obstacles").c_str(),
-                 target_frame_.empty() ? "<cloud frame>" : target_frame_.c_str());
+    NODELET_INFO("ObstacleDetector on %s -> %s (boxes in '%s', ego motion: %s%s%s)",
+                 sub_.getTopic().c_str(), nh.resolveName("obstacles").c_str(),
+                 target_frame_.empty() ? "<cloud frame>" : target_frame_.c_str(),
+                 toString(ego_params.source),
+                 ego_params.source == EgoMotionSource::kNone ? "" : ", tracks in ",
+                 ego_params.source == EgoMotionSource::kNone ? "" : fixed_frame_.c_str());
   }
 
   // Sensor -> target frame at the cloud's stamp (latest transform as a fallback). On failure,
@@ -124,8 +148,11 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     }
     last_frame_ = frame;
 
-    StageTimes times;
     const double stamp_s = msg->header.stamp.toSec();
+    const EgoStep ego = egoStep(msg->header.stamp, frame);
+    detector_->setFrameMotion(ego.motion);
+
+    StageTimes times;
     detector_->setSensorOrigin(to_target.translation());  // the cloud frame's origin
     MultiObjectTracker::UpdateResult result;
     if (detector_->fast()) {
@@ -148,10 +175,13 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     out->header.stamp = msg->header.stamp;
     out->header.frame_id = frame;
     out->cloud_receive_time.fromNSec(received.toNSec());
+    out->ego_motion_source = toString(ego_.params().source);
+    out->ego_motion_status = toString(ego.status);
+    out->ego_twist = toTwistMsg(ego);
     for (const Track& track : detector_->tracks()) {
       if (!track.confirmed) continue;
       out->obstacles.emplace_back();
-      toObstacleMsg(track, out->obstacles.back());
+      toObstacleMsg(track, ego, out->obstacles.back());
     }
     out->processing_ms = static_cast<float>((ros::WallTime::now() - received).toSec() * 1e3);
     last_times_ = times;
@@ -162,6 +192,51 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     pub_.publish(ObstacleArray::ConstPtr(out));
   }
 
+  // The vehicle's motion since the previous cloud, from the configured source at this stamp. A
+  // missing pose is extrapolated from the last twist for a while, then the motion is dropped and
+  // the tracks restart (their velocities would mix frames); a jump re-bases. Counted and warned.
+  EgoStep egoStep(const ros::Time& stamp, const std::string& frame) {
+    if (ego_.params().source == EgoMotionSource::kNone) return EgoStep();
+    Eigen::Isometry3d pose;
+    std::string why;
+    const bool found = frame == target_frame_ &&
+                       ego_source_->lookup(stamp, frame, ego_.params().max_wait_s, pose, why);
+    if (!found && why.empty()) why = "boxes are not in the vehicle frame " + target_frame_;
+    const EgoStep step = ego_.update(stamp.toSec(), found ? &pose : nullptr);
+    ++ego_counts_[step.status];
+    switch (step.status) {
+      case EgoStep::Status::kExtrapolated:
+        NODELET_WARN_THROTTLE(1.0, "no pose of %s in %s at %.3f (%s): ego motion extrapolated",
+                              frame.c_str(), fixed_frame_.c_str(), stamp.toSec(), why.c_str());
+        break;
+      case EgoStep::Status::kJump:
+        NODELET_WARN_THROTTLE(1.0, "the pose of %s in %s jumped at %.3f (odometry reset?): "
+                              "re-based on it", frame.c_str(), fixed_frame_.c_str(), stamp.toSec());
+        break;
+      case EgoStep::Status::kLost:
+        NODELET_ERROR_THROTTLE(1.0, "no pose of %s in %s for more than %.2f s (%s): velocities are "
+                               "relative to the vehicle until it comes back", frame.c_str(),
+                               fixed_frame_.c_str(), ego_.params().max_extrapolation_s, why.c_str());
+        break;
+      case EgoStep::Status::kNone:
+        NODELET_WARN_THROTTLE(5.0, "no pose of %s in %s yet (%s): velocities relative to the "
+                              "vehicle", frame.c_str(), fixed_frame_.c_str(), why.c_str());
+        break;
+      case EgoStep::Status::kFirst:
+      case EgoStep::Status::kMeasured: break;
+    }
+    // Tracks whose velocities were relative (no pose) must not continue over ground, nor the
+    // other way round.
+    const bool over_ground = step.status != EgoStep::Status::kNone &&
+                             step.status != EgoStep::Status::kLost;
+    if (over_ground != ego_over_ground_) {
+      if (detector_) detector_->reset();
+      ++ego_restarts_;
+    }
+    ego_over_ground_ = over_ground;
+    return step;
+  }
+
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     std::lock_guard<std::mutex> lock(mutex_);
     std::uint64_t invalid = 0;
@@ -169,14 +244,24 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
       invalid += kv.second;
       stat.add(std::string("invalid clouds: ") + toString(kv.first), kv.second);
     }
+    const std::uint64_t ego_faults = ego_counts_[EgoStep::Status::kExtrapolated] +
+                                     ego_counts_[EgoStep::Status::kJump] +
+                                     ego_counts_[EgoStep::Status::kLost];
     if (invalid > reported_invalid_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid clouds dropped");
     else if (tf_failures_ > reported_tf_failures_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "transform to target frame missing");
+    else if (ego_faults > reported_ego_faults_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "ego motion extrapolated, jumped or lost");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
     reported_invalid_ = invalid;
     reported_tf_failures_ = tf_failures_;
+    reported_ego_faults_ = ego_faults;
+    stat.add("ego motion source", toString(ego_.params().source));
+    for (const auto& kv : ego_counts_)
+      stat.add(std::string("ego motion frames: ") + toString(kv.first), kv.second);
+    stat.add("ego motion restarts of the tracks", ego_restarts_);
     stat.add("clouds received", received_);
     stat.add("obstacle arrays published", published_);
     stat.add("invalid clouds", invalid);
@@ -198,6 +283,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<ObstacleDetector> detector_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<EgoPoseSource> ego_source_;
+  EgoMotion ego_;
+  std::string fixed_frame_ = "odom";
+  std::map<EgoStep::Status, std::uint64_t> ego_counts_;
+  std::uint64_t ego_restarts_ = 0, reported_ego_faults_ = 0;
+  bool ego_over_ground_ = false;
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   std::unique_ptr<LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>> live_;

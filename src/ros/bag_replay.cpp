@@ -5,6 +5,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <rosgraph_msgs/Clock.h>
@@ -55,6 +56,7 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
     d.id = o.id;
     d.center = Eigen::Vector2d(o.pose.position.x, o.pose.position.y);
     d.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
+    d.velocity_over_ground = Eigen::Vector2d(o.velocity_over_ground.x, o.velocity_over_ground.y);
     d.dangerous = o.dangerous;
     d.age = o.age;
     d.has_aabb = true;
@@ -94,6 +96,24 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   ros::Publisher clock_pub = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   ros::Publisher cloud_pub = nh.advertise<sensor_msgs::PointCloud2>(opt.points_topic, 2);
 
+  // The vehicle's motion, published ahead of each cloud (header stamps up to the cloud's).
+  // Not when the graph makes it itself (LidarOdometry): two sources of one transform would fight.
+  std::string ego_source;
+  ros::param::get(opt.ns + "/ego_motion/source", ego_source);
+  std::vector<rosbag::MessageInstance> motion;
+  if (opt.publish_tf && ego_source != "lidar")
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({"/tf", opt.odom_topic})))
+      motion.push_back(m);
+  ros::Publisher tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
+  ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>(opt.odom_topic, 100);
+  std::size_t next_motion = 0;
+  const auto publishMotionUpTo = [&](const ros::Time& stamp) {
+    for (; next_motion < motion.size() && motion[next_motion].getTime() <= stamp; ++next_motion) {
+      if (auto tf = motion[next_motion].instantiate<tf2_msgs::TFMessage>()) tf_pub.publish(tf);
+      else if (auto odom = motion[next_motion].instantiate<nav_msgs::Odometry>()) odom_pub.publish(odom);
+    }
+  };
+
   rosbag::View clouds(bag, rosbag::TopicQuery(opt.points_topic));
   if (clouds.size() == 0) throw std::runtime_error(opt.bag + ": no messages on " + opt.points_topic);
   rosgraph_msgs::Clock clock;
@@ -101,7 +121,7 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   const bool up = waitFor([&] {
     clock_pub.publish(clock);  // the graph's timers need a clock to come up
     return cloud_pub.getNumSubscribers() > 0 && array_sub.getNumPublishers() > 0 &&
-           state_sub.getNumPublishers() > 0;
+           state_sub.getNumPublishers() > 0 && (motion.empty() || tf_pub.getNumSubscribers() > 0);
   }, opt.graph_timeout_s);
   if (!up) throw std::runtime_error("the icanc graph in " + opt.ns + " did not come up");
   ros::WallDuration(0.3).sleep();  // let the connections settle
@@ -126,6 +146,7 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
     }
     clock.clock = stamp;
     clock_pub.publish(clock);
+    publishMotionUpTo(m.getTime());
     cloud_pub.publish(cloud);
 
     EvalFrame f;
@@ -137,6 +158,10 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
     if (f.processed) {
       std::lock_guard<std::mutex> l(mutex);
       f.detections = toDetections(*arrays[stamp]);
+      f.ego_velocity = Eigen::Vector2d(arrays[stamp]->ego_twist.linear.x, arrays[stamp]->ego_twist.linear.y);
+      f.ego_yaw_rate = arrays[stamp]->ego_twist.angular.z;
+      const std::string& ego = arrays[stamp]->ego_motion_status;
+      f.ego_motion = ego == "measured" || ego == "extrapolated" || ego == "jump";
       f.lamp_on = answers[stamp]->on;
       f.latency_ms = answers[stamp]->input_latency_ms;
       arrays.erase(arrays.begin(), arrays.upper_bound(stamp));

@@ -18,9 +18,11 @@ RawCloud toRawCloud(const sensor_msgs::PointCloud2& msg) {
   return raw;
 }
 
-void toObstacleMsg(const Track& track, Obstacle& out) {
+void toObstacleMsg(const Track& track, const EgoStep& ego, Obstacle& out) {
   const Eigen::Vector3f& p = track.box.center;
-  const Eigen::Vector3d v = track.velocity();
+  const Eigen::Vector3d ground = track.velocity();
+  const Eigen::Vector3d v =
+      relativeVelocity(ground, p.cast<double>(), ego.linear_velocity, ego.yaw_rate_rad_s);
   out.id = track.id;
   out.pose.position.x = p.x();
   out.pose.position.y = p.y();
@@ -49,8 +51,11 @@ void toObstacleMsg(const Track& track, Obstacle& out) {
   out.velocity.x = v.x();
   out.velocity.y = v.y();
   out.velocity.z = v.z();
+  out.velocity_over_ground.x = ground.x();
+  out.velocity_over_ground.y = ground.y();
+  out.velocity_over_ground.z = ground.z();
   out.speed = getSpeedOfObject(v);
-  out.heading = headingDeg(v);
+  out.heading_deg = headingDeg(v);
   out.velocity_std = track.velocityStd();
   const Eigen::Vector2d std_xy = track.velocityStdXY();
   out.velocity_std_axes.x = std_xy.x();
@@ -61,13 +66,24 @@ void toObstacleMsg(const Track& track, Obstacle& out) {
   out.num_points = track.box.num_points;
 }
 
-ObjectKinematics toKinematics(const Obstacle& o) {
+geometry_msgs::Twist toTwistMsg(const EgoStep& ego) {
+  geometry_msgs::Twist twist;
+  twist.linear.x = ego.linear_velocity.x();
+  twist.linear.y = ego.linear_velocity.y();
+  twist.linear.z = ego.linear_velocity.z();
+  twist.angular.z = ego.yaw_rate_rad_s;
+  return twist;
+}
+
+ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego_twist) {
   ObjectKinematics k;
   k.center = Eigen::Vector3d(o.pose.position.x, o.pose.position.y, o.pose.position.z);
   k.aabb_min = Eigen::Vector3d(o.aabb_min.x, o.aabb_min.y, o.aabb_min.z);
   k.aabb_max = Eigen::Vector3d(o.aabb_max.x, o.aabb_max.y, o.aabb_max.z);
   k.velocity = Eigen::Vector3d(o.velocity.x, o.velocity.y, o.velocity.z);
   k.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
+  k.ego_velocity = Eigen::Vector2d(ego_twist.linear.x, ego_twist.linear.y);
+  k.ego_yaw_rate = ego_twist.angular.z;
   k.footprint.reserve(o.footprint.size());
   for (const auto& cell : o.footprint)
     k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min),

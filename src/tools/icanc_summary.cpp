@@ -90,7 +90,7 @@ class Summary {
       for (const auto& o : last_array_->obstacles) {
         if (!o.dangerous) continue;
         std::printf("  id %u at %.2f m, %.2f m/s, heading %.0f deg", o.id, o.closest_distance,
-                    o.speed, o.heading);
+                    o.speed, o.heading_deg);
       }
     }
     std::printf("\n");

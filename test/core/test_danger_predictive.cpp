@@ -2,6 +2,7 @@
 // per-track hysteresis, against the paper's rule on the same objects. Zebra profile: corridor
 // |y| <= 0.7 + 0.3 m, 0 <= x <= 0.5 + 1.0 m, reaction time 3 s.
 #include <algorithm>
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -178,6 +179,79 @@ TEST(DangerHysteresis, HoldsThroughOneSafeFrameAndDropsAfterOffFrames) {
   EXPECT_FALSE(h.update(9, safe, 5.0));        // ids 7 and 8 not seen for > 1 s: forgotten
   EXPECT_EQ(h.size(), 1u);
   EXPECT_FALSE(h.update(8, far_danger, 5.1));  // a forgotten id starts again
+}
+
+// Issue 19: the vehicle predicted along its own twist. A road car (corridor |y| <= 1.2 + 0.3 m,
+// 0 <= x <= 2 + 5 m, 2 s) at 10 m/s on a left bend of radius 50 m.
+DangerParams roadCar() {
+  DangerParams p;
+  p.model = DangerModel::kPredictive;
+  p.half_width_m = 1.2;
+  p.reaction_time_s = 2.0;
+  p.vehicle_front_m = 2.0;
+  p.stopping_margin_m = 5.0;
+  return p;
+}
+
+// A static object at `center` (vehicle frame) seen from the vehicle on the bend: its relative
+// velocity is minus the velocity of the vehicle-fixed point there, and the array carries the twist.
+ObjectKinematics staticOnBend(const Eigen::Vector2d& center, double half_x, double half_y,
+                              double speed, double yaw_rate) {
+  ObjectKinematics o = boxAt(center.x(), center.y(), 0.0, 0.0, 0.0);
+  o.aabb_min << center.x() - half_x, center.y() - half_y, -0.8;
+  o.aabb_max << center.x() + half_x, center.y() + half_y, 0.8;
+  o.velocity << -speed + yaw_rate * center.y(), -yaw_rate * center.x(), 0.0;
+  o.ego_velocity << speed, 0.0;
+  o.ego_yaw_rate = yaw_rate;
+  return o;
+}
+
+// The point of the bend `s` metres ahead, `offset` metres to its left, in the vehicle frame.
+Eigen::Vector2d onBend(double radius, double s, double offset) {
+  const double a = s / radius;
+  return Eigen::Vector2d((radius - offset) * std::sin(a), radius - (radius - offset) * std::cos(a));
+}
+
+TEST(DangerPredictiveEgoPath, AParkedCarOnTheInsideOfABendIsNotDangerous) {
+  const double radius = 50.0, speed = 10.0, w = speed / radius;
+  // Parked 3.5 m to the left of the path, 14 m along the bend: off to the left, and sweeping to
+  // the right across the view at w x r as the vehicle turns toward it (KITTI 0000's false alarms).
+  const Eigen::Vector2d car = onBend(radius, 14.0, 3.5);
+  ASSERT_GT(car.y(), 4.0);
+  const ObjectKinematics seen = staticOnBend(car, 2.2, 0.9, speed, w);
+  const DangerAssessment along_the_bend = assessDanger(seen, roadCar());
+  EXPECT_FALSE(along_the_bend.dangerous) << along_the_bend.time_to_corridor_s;
+  // The same relative motion taken as a straight drive (no twist, the paper's relative frame):
+  // it sweeps into the straight corridor.
+  ObjectKinematics straight = seen;
+  straight.ego_velocity.setZero();
+  straight.ego_yaw_rate = 0.0;
+  EXPECT_TRUE(assessDanger(straight, roadCar()).dangerous);
+}
+
+TEST(DangerPredictiveEgoPath, AWalkerStandingInTheLaneOfTheBendIsDangerous) {
+  const double radius = 50.0, speed = 10.0, w = speed / radius;
+  const Eigen::Vector2d walker = onBend(radius, 16.0, 0.0);  // in the lane, 16 m along the bend
+  ASSERT_GT(walker.y(), 2.0);  // off the straight corridor
+  const ObjectKinematics seen = staticOnBend(walker, 0.3, 0.3, speed, w);
+  const DangerAssessment a = assessDanger(seen, roadCar());
+  EXPECT_TRUE(a.dangerous);
+  EXPECT_GT(a.time_to_corridor_s, 0.5);  // reached at (16 - 7.3) / 10 s, not at once
+  EXPECT_LT(a.time_to_corridor_s, 1.2);
+  // Straight ahead with the relative velocity of a straight drive, it passes beside.
+  ObjectKinematics straight = boxAt(walker.x(), walker.y(), 0.3, -speed, 0.0);
+  EXPECT_FALSE(assessDanger(straight, roadCar()).dangerous);
+}
+
+TEST(DangerPredictiveEgoPath, GoingStraightTheTwistChangesNothing) {
+  // The velocity over ground and the vehicle's own straight motion: the same relative motion.
+  ObjectKinematics walker = boxAt(8.0, -3.0, 0.3, -10.0, 1.5);
+  const DangerAssessment relative = assessDanger(walker, roadCar());
+  walker.ego_velocity << 10.0, 0.0;
+  const DangerAssessment with_twist = assessDanger(walker, roadCar());
+  EXPECT_EQ(relative.dangerous, with_twist.dangerous);
+  EXPECT_NEAR(relative.time_to_corridor_s, with_twist.time_to_corridor_s, 1e-9);
+  EXPECT_TRUE(relative.dangerous);
 }
 
 }  // namespace

@@ -360,5 +360,34 @@ TEST(Evaluation, SettledVelocityAndCentreOffsetSteps) {
   EXPECT_NE(toJson(r, "t").find("\"offset_step_rms_m\": 0.2"), std::string::npos);
 }
 
+// Issue 19: the speed over ground of settled tracks of objects that stand still, judged with the
+// frame's ego twist; frames without ego motion and moving objects do not count.
+TEST(Evaluate, StaticObjectsSpeedOverGround) {
+  std::vector<EvalFrame> frames;
+  for (int i = 0; i < 4; ++i) {
+    TruthObject parked = truth(1, 12, 4, false);
+    parked.velocity = Eigen::Vector2d(-10.0 + 0.1 * 4, -0.1 * 12);  // seen from 10 m/s, 0.1 rad/s
+    TruthObject walker = truth(2, 15, -5, false);
+    walker.velocity = Eigen::Vector2d(-10.0 - 0.1 * 5, 1.5 - 0.1 * 15);  // walks 1.5 m/s over ground
+    DetectedObject car = det(11, 12, 4, false);
+    car.velocity_over_ground = Eigen::Vector2d(0.1 * (i + 1), 0.0);
+    car.age = 20;
+    DetectedObject person = det(12, 15, -5, false);
+    person.velocity_over_ground = Eigen::Vector2d(0.0, 1.4);
+    person.age = 20;
+    EvalFrame f = frame(0.1 * i, false, {parked, walker}, {car, person});
+    f.ego_velocity = Eigen::Vector2d(10.0, 0.0);
+    f.ego_yaw_rate = 0.1;
+    f.ego_motion = i != 3;  // the last frame had no ego motion: not counted
+    frames.push_back(f);
+  }
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.static_speed_samples, 3u);
+  EXPECT_NEAR(r.static_speed_p50_mps, 0.2, 1e-9);
+  EXPECT_NE(toJson(r, "x").find("\"static_speed_mps\": {\"p50\": 0.2"), std::string::npos);
+  for (EvalFrame& f : frames) f.detections[0].age = 3;  // young tracks do not count
+  EXPECT_EQ(evaluate(frames, EvalParams()).static_speed_samples, 0u);
+}
+
 }  // namespace
 }  // namespace icanc

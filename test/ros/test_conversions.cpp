@@ -33,7 +33,7 @@ TEST(Conversions, ATrackRoundTripsIntoTheDangerModelsKinematics) {
   const Track& track = tracker.tracks()[0];
 
   Obstacle msg;
-  toObstacleMsg(track, msg);
+  toObstacleMsg(track, EgoStep(), msg);
   EXPECT_EQ(msg.id, track.id);
   EXPECT_NEAR(2.0 * std::atan2(msg.pose.orientation.z, msg.pose.orientation.w), 0.3, 1e-6);
   EXPECT_EQ(msg.num_points, 40u);
@@ -42,7 +42,7 @@ TEST(Conversions, ATrackRoundTripsIntoTheDangerModelsKinematics) {
   EXPECT_FLOAT_EQ(msg.footprint[1].x_max, track.box.footprint[1].max.x());
   EXPECT_FLOAT_EQ(msg.footprint[0].y_min, track.box.footprint[0].min.y());
 
-  const ObjectKinematics k = toKinematics(msg);
+  const ObjectKinematics k = toKinematics(msg, geometry_msgs::Twist());
   EXPECT_TRUE(k.aabb_min.isApprox(track.box.min.cast<double>(), 1e-6));
   EXPECT_TRUE(k.aabb_max.isApprox(track.box.max.cast<double>(), 1e-6));
   EXPECT_TRUE(k.velocity.isApprox(track.velocity(), 1e-6));
@@ -53,6 +53,37 @@ TEST(Conversions, ATrackRoundTripsIntoTheDangerModelsKinematics) {
     EXPECT_TRUE(k.footprint[i].max().isApprox(track.box.footprint[i].max.cast<double>(), 1e-6));
   }
   EXPECT_LT(k.velocity.x(), -0.3);  // it is closing in: 0.1 m per 0.1 s
+  // No ego motion: over ground is relative.
+  EXPECT_DOUBLE_EQ(msg.velocity_over_ground.x, msg.velocity.x);
+}
+
+// Issue 19: with the vehicle's motion, the message carries the velocity over ground (the filter's)
+// and the relative one the paper's rule uses, and the array's twist reaches the danger model.
+TEST(Conversions, VelocityOverGroundAndRelativeToATurningVehicle) {
+  MultiObjectTracker tracker;
+  Box3D b;
+  b.center = Eigen::Vector3f(10.0f, 0.0f, 0.8f);
+  b.size = Eigen::Vector3f(0.5f, 0.5f, 1.6f);
+  b.min = b.center - 0.5f * b.size;
+  b.max = b.center + 0.5f * b.size;
+  tracker.update(0.0, {b});
+  ASSERT_EQ(tracker.tracks().size(), 1u);
+  EgoStep ego;
+  ego.status = EgoStep::Status::kMeasured;
+  ego.linear_velocity = Eigen::Vector3d(5.0, 0.0, 0.0);
+  ego.yaw_rate_rad_s = 0.5;
+  Obstacle msg;
+  toObstacleMsg(tracker.tracks()[0], ego, msg);  // a standing object: zero over ground
+  EXPECT_DOUBLE_EQ(msg.velocity_over_ground.x, 0.0);
+  EXPECT_NEAR(msg.velocity.x, -5.0, 1e-6);  // the vehicle-fixed point (10, 0) moves at (5, 5)
+  EXPECT_NEAR(msg.velocity.y, -5.0, 1e-6);
+  EXPECT_NEAR(msg.speed, std::sqrt(50.0), 1e-5);
+  EXPECT_NEAR(msg.heading_deg, 225.0, 1e-4);
+  const geometry_msgs::Twist twist = toTwistMsg(ego);
+  EXPECT_DOUBLE_EQ(twist.angular.z, 0.5);
+  const ObjectKinematics k = toKinematics(msg, twist);
+  EXPECT_DOUBLE_EQ(k.ego_velocity.x(), 5.0);
+  EXPECT_DOUBLE_EQ(k.ego_yaw_rate, 0.5);
 }
 
 }  // namespace

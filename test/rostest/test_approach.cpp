@@ -65,7 +65,7 @@ TEST(Approach, LampOnAtSpeedTimesReactionTimeAndOffTauAfterDangerEnds) {
     for (const auto& o : a->obstacles) {
       if (!o.dangerous) continue;
       EXPECT_NEAR(o.speed, speed, 0.4);
-      EXPECT_NEAR(o.heading, 180.0, 20.0);
+      EXPECT_NEAR(o.heading_deg, 180.0, 20.0);
       EXPECT_EQ(o.section, Obstacle::SECTION_FRONT);
     }
   }

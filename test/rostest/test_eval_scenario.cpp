@@ -72,6 +72,9 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"max_velocity_rmse", r.velocity_rmse},
       {"max_id_switches", double(r.id_switches)},
       {"max_false_alarms", double(r.false_alarms_unmatched)},
+      // Tracking in the fixed frame: a static object's track stands still (needs ego motion).
+      {"max_static_speed_p50", r.static_speed_samples ? r.static_speed_p50_mps : 1e9},
+      {"max_static_speed_p90", r.static_speed_samples ? r.static_speed_p90_mps : 1e9},
   };
   for (const Check& c : mins) {
     double bound;

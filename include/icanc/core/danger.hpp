@@ -91,6 +91,12 @@ struct ObjectKinematics {
   // kPredictive: where the object is inside its axis-aligned box, seen from above (x, y): tight
   // parts of the footprint (icanc/Obstacle footprint). Empty: the axis-aligned box.
   std::vector<Eigen::AlignedBox2d> footprint;
+  // kPredictive: the vehicle's own twist (body velocity x, y [m/s] and yaw rate [rad/s]); the
+  // vehicle is predicted along it (constant turn rate and velocity) and the object with its velocity
+  // over ground (velocity + the vehicle's velocity where the object is). Zero: the vehicle stands
+  // still and the object moves at its relative velocity (the ego_motion source none).
+  Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
+  double ego_yaw_rate = 0.0;
 };
 
 struct DangerAssessment {
@@ -111,10 +117,12 @@ struct DangerAssessment {
 // distance, speed, heading and moving_toward are filled as for the paper's rule, for display).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
-// kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at the
-// relative velocity, grown on every side by footprint_margin_m and per axis by
+// kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at its
+// velocity over ground, seen from where the vehicle will be along its own twist (the corridor
+// turns with the vehicle), grown on every side by footprint_margin_m and per axis by
 // min(k * velocity_std(axis) * t, cap), sampled every time_step_s over [0, reaction_time]: the
-// first time a part of it overlaps the corridor, or -1.
+// first time a part of it overlaps the corridor, or -1. With no ego twist this is the footprint
+// moving at the relative velocity against the corridor ahead.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
 
 // Per-track hysteresis of the danger label (params: on_frames, off_frames, immediate_ttc_s,

@@ -30,7 +30,9 @@ struct TruthObject {
 struct DetectedObject {
   std::uint32_t id = 0;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
-  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // relative to the vehicle
+  // Over ground (icanc/Obstacle velocity_over_ground; the relative one without ego motion).
+  Eigen::Vector2d velocity_over_ground = Eigen::Vector2d::Zero();
   bool dangerous = false;
   std::uint32_t age = 0;  // frames since the track's birth (icanc/Obstacle age; 0 unknown)
   // What the danger model saw (the rows; the box bias): axis-aligned x, y bounds (when has_aabb)
@@ -48,6 +50,11 @@ struct EvalFrame {
   double latency_ms = 0.0;        // cloud received -> light state published (wall)
   std::vector<TruthObject> truth;
   std::vector<DetectedObject> detections;
+  // The vehicle's twist the graph used for this frame (ObstacleArray.ego_twist): the danger model on
+  // perfect tracks predicts the vehicle along the same path.
+  Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
+  double ego_yaw_rate = 0.0;
+  bool ego_motion = false;  // the twist was measured (or carried over a missing pose)
 };
 
 struct EvalParams {
@@ -58,6 +65,7 @@ struct EvalParams {
   double max_range_m = 40.0;      // true objects / detections farther away are not scored
   double fov_half_angle_deg = 180.0;  // scored sector around +x (KITTI labels: 45)
   std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
+  double static_speed_mps = 0.5;      // true objects slower over ground than this stand still
   // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
   // a perfect danger detector would have had (EvalReport::truth_duty_cycle).
   double lamp_tau_s = 2.0;
@@ -105,6 +113,13 @@ struct EvalReport {
   double box_bias_near_m = 0.0;
   double box_bias_side_m = 0.0;
   std::size_t box_bias_samples = 0;
+  // Tracking in the fixed frame (issue 19): the speed over ground of the tracks matched to true
+  // objects that stand still (their true relative velocity plus the frame's ego twist at them is
+  // below EvalParams::static_speed_mps), median and 90th percentile over settled tracks. Zero
+  // samples when the graph reports no ego motion (every object moves relative to the vehicle).
+  double static_speed_p50_mps = 0.0;
+  double static_speed_p90_mps = 0.0;
+  std::size_t static_speed_samples = 0;
   double latency_p50_ms = 0, latency_p90_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   double duty_cycle = 0.0;          // fraction of processed frames with the lamp on
   // The same for a perfect danger detector: the light controller (EvalParams::lamp_*) given, each

@@ -48,6 +48,9 @@ class ImmConstantVelocity {
   void update(const Eigen::Vector3d& measured_position, double measurement_variance,
               double robust_sigma);
 
+  // Re-expresses every model's estimate in another frame (ConstantVelocityKalman::changeFrame).
+  void changeFrame(const Eigen::Isometry3d& motion);
+
   // The combined estimate: probability-weighted mean, covariance including the spread of the
   // models' means.
   Eigen::Vector3d position() const { return x_.head<3>(); }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace icanc {
 
@@ -23,6 +24,10 @@ class ConstantVelocityKalman {
   }
   // Same, with a variance per axis [m^2].
   void update(const Eigen::Vector3d& measured_position, const Eigen::Vector3d& measurement_variance);
+
+  // Re-expresses the estimate in another frame: p' = motion * p, v' = R v, covariance rotated
+  // alike (the vehicle moved between frames; the object did not, because of that).
+  void changeFrame(const Eigen::Isometry3d& motion);
 
   // Replaces state and covariance (an IMM's mixing step).
   void set(const Vector6& state, const Matrix6& covariance) {

@@ -72,6 +72,11 @@ class ObstacleDetector {
   // nodelet sets it from the cloud's transform every frame.
   void setSensorOrigin(const Eigen::Vector3f& origin) { sensor_origin_ = origin; }
 
+  // How the vehicle moved since the previous frame (EgoStep::motion), for the next frame only: the
+  // tracker re-expresses its tracks by it, so their velocities are over ground. Not set: the
+  // vehicle is taken to stand still (velocities relative to it, the paper's behaviour).
+  void setFrameMotion(const Eigen::Isometry3d& motion) { frame_motion_ = motion; }
+
   // Takes effect on the next frame; the tracks are kept.
   void setParams(const ObstacleDetectorParams& params);
   const ObstacleDetectorParams& params() const { return params_; }
@@ -89,6 +94,7 @@ class ObstacleDetector {
   GroundResult ground_;
   std::vector<Box3D> detections_;
   Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();
+  Eigen::Isometry3d frame_motion_ = Eigen::Isometry3d::Identity();
 };
 
 template <class Source>

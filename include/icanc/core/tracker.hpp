@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "icanc/core/box.hpp"
 #include "icanc/core/hungarian.hpp"
@@ -101,9 +102,13 @@ class MultiObjectTracker {
 
   // One frame: predict every track to `stamp_s`, associate, update, age, birth, delete.
   // The first frame after construction or reset() only starts tracks. `view` says where the
-  // detections were seen from (which faces are the near ones).
+  // detections were seen from (which faces are the near ones). `motion` maps the previous frame's
+  // vehicle frame into this one (EgoStep::motion: p_now = motion * p_prev): the tracks are
+  // re-expressed in it first, so their velocities are over ground. Identity: the vehicle is taken
+  // to stand still and the velocities are relative to it (the paper).
   UpdateResult update(double stamp_s, const std::vector<Box3D>& detections,
-                      const TrackerView& view = TrackerView());
+                      const TrackerView& view = TrackerView(),
+                      const Eigen::Isometry3d& motion = Eigen::Isometry3d::Identity());
 
   // Drops all tracks; the next update() only starts tracks. Ids keep counting (never reused).
   void reset();

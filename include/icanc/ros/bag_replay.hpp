@@ -22,6 +22,11 @@ struct ReplayOptions {
   double frame_timeout_s = 5.0;   // wall time to wait for the graph's answer to a frame
   double graph_timeout_s = 30.0;  // wall time to wait for the graph to come up
   std::size_t max_frames = 0;     // 0: all
+  // The bag's /tf (the vehicle's odom -> base_link) and odometry are published before each cloud,
+  // up to its stamp, for the ego_motion sources tf and odometry; never when the graph's
+  // ego_motion/source is lidar (the LidarOdometry nodelet publishes that transform itself).
+  bool publish_tf = true;
+  std::string odom_topic = "/odom";  // nav_msgs/Odometry in the bag, if any
 };
 
 // Throws std::runtime_error when the bag cannot be read or the graph does not come up.

@@ -1,11 +1,13 @@
 // Message <-> core conversions.
 #pragma once
 
+#include <geometry_msgs/Twist.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include "icanc/Obstacle.h"
 #include "icanc/core/cloud_decode.hpp"
 #include "icanc/core/danger.hpp"
+#include "icanc/core/ego_motion.hpp"
 #include "icanc/core/tracker.hpp"
 
 namespace icanc {
@@ -13,11 +15,15 @@ namespace icanc {
 // A view of the message's layout and bytes (no copy; valid while msg lives).
 RawCloud toRawCloud(const sensor_msgs::PointCloud2& msg);
 
-// A tracked object as an icanc/Obstacle: pose, boxes, filtered velocity, speed and heading.
-// The danger fields are left zero for the DangerDetector.
-void toObstacleMsg(const Track& track, Obstacle& out);
+// A tracked object as an icanc/Obstacle: pose, boxes, the filter's velocity over ground, the
+// velocity relative to the vehicle moving as `ego` says (relativeVelocity), speed and heading of
+// the relative one. The danger fields are left zero for the DangerDetector.
+void toObstacleMsg(const Track& track, const EgoStep& ego, Obstacle& out);
 
-// What the danger rules need of an icanc/Obstacle.
-ObjectKinematics toKinematics(const Obstacle& obstacle);
+// The vehicle's twist as a message (linear velocity, yaw rate as angular z).
+geometry_msgs::Twist toTwistMsg(const EgoStep& ego);
+
+// What the danger rules need of an icanc/Obstacle, with the vehicle's twist of its array.
+ObjectKinematics toKinematics(const Obstacle& obstacle, const geometry_msgs::Twist& ego_twist);
 
 }  // namespace icanc

@@ -1,0 +1,58 @@
+// Where the ObstacleDetector nodelet gets the vehicle's pose in the fixed frame at a cloud's stamp
+// (parameter ego_motion/source): tf (the vehicle's odom -> base_link, e.g. robot_localization or
+// wheel odometry), lidar (the same lookup, of the tf the icanc/LidarOdometry nodelet publishes),
+// odometry (a nav_msgs/Odometry topic, interpolated at the stamp), none. Glue only: what the poses
+// mean is icanc::EgoMotion's.
+#pragma once
+
+#include <deque>
+#include <mutex>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <nav_msgs/Odometry.h>
+#include <ros/node_handle.h>
+#include <ros/subscriber.h>
+#include <tf2_ros/buffer.h>
+
+#include "icanc/core/ego_motion.hpp"
+
+namespace icanc {
+
+class EgoPoseSource {
+ public:
+  // For kOdometry it subscribes to `odom` in nh's namespace (remap it); the others use `tf`.
+  EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source, const std::string& fixed_frame,
+                tf2_ros::Buffer& tf);
+
+  // The pose of vehicle_frame in the fixed frame at `stamp`, waiting at most max_wait_s (wall
+  // clock: the source may publish a moment after the cloud arrives). False, with the reason, when
+  // there is none by then (the caller extrapolates and counts).
+  bool lookup(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
+              Eigen::Isometry3d& fixed_T_vehicle, std::string& why);
+
+  const std::string& fixedFrame() const { return fixed_frame_; }
+
+ private:
+  bool lookupTf(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
+                Eigen::Isometry3d& pose, std::string& why);
+  bool lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
+                      Eigen::Isometry3d& pose, std::string& why);
+  bool interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3d& pose, std::string& child,
+                           std::string& why);
+  void onOdometry(const nav_msgs::Odometry::ConstPtr& msg);
+
+  EgoMotionSource source_;
+  std::string fixed_frame_;
+  tf2_ros::Buffer& tf_;
+  ros::Subscriber odom_sub_;
+  std::mutex mutex_;
+  struct Stamped {
+    ros::Time stamp;
+    Eigen::Isometry3d pose;
+  };
+  std::deque<Stamped> odometry_;  // by stamp, the last few seconds
+  std::string odometry_child_frame_;
+};
+
+}  // namespace icanc

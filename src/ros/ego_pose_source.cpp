@@ -1,0 +1,116 @@
+#include "icanc/ros/ego_pose_source.hpp"
+
+#include <algorithm>
+
+#include <ros/rate.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+namespace icanc {
+namespace {
+
+constexpr double kOdometryHistoryS = 5.0;  // odometry kept for lookups this far back
+constexpr double kPollS = 0.001;           // wall-clock poll while waiting for a pose
+
+}  // namespace
+
+EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
+                             const std::string& fixed_frame, tf2_ros::Buffer& tf)
+    : source_(source), fixed_frame_(fixed_frame), tf_(tf) {
+  if (source_ == EgoMotionSource::kOdometry)
+    odom_sub_ = nh.subscribe("odom", 50, &EgoPoseSource::onOdometry, this);
+}
+
+bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_frame,
+                           double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
+  switch (source_) {
+    case EgoMotionSource::kTf:
+    case EgoMotionSource::kLidar: return lookupTf(stamp, vehicle_frame, max_wait_s, pose, why);
+    case EgoMotionSource::kOdometry: return lookupOdometry(stamp, vehicle_frame, max_wait_s, pose, why);
+    case EgoMotionSource::kNone:
+    case EgoMotionSource::kInvalid: break;
+  }
+  why = "no ego motion source";
+  return false;
+}
+
+bool EgoPoseSource::lookupTf(const ros::Time& stamp, const std::string& vehicle_frame,
+                             double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
+  // Polled on the wall clock, not tf2's timeout: under sim time a lockstep replay does not advance
+  // the clock while the graph works on a frame.
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(max_wait_s);
+  while (!tf_.canTransform(fixed_frame_, vehicle_frame, stamp, &why)) {
+    if (ros::WallTime::now() >= deadline || !ros::ok()) return false;
+    ros::WallDuration(kPollS).sleep();
+  }
+  try {
+    pose = tf2::transformToEigen(tf_.lookupTransform(fixed_frame_, vehicle_frame, stamp));
+    return true;
+  } catch (const tf2::TransformException& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+void EgoPoseSource::onOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
+  Eigen::Isometry3d pose;
+  tf2::fromMsg(msg->pose.pose, pose);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!odometry_.empty() && msg->header.stamp < odometry_.back().stamp) odometry_.clear();  // replay restarted
+  if (!msg->child_frame_id.empty()) odometry_child_frame_ = msg->child_frame_id;
+  odometry_.push_back({msg->header.stamp, pose});
+  while (!odometry_.empty() &&
+         (msg->header.stamp - odometry_.front().stamp).toSec() > kOdometryHistoryS)
+    odometry_.pop_front();
+}
+
+bool EgoPoseSource::interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3d& pose,
+                                        std::string& child, std::string& why) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  child = odometry_child_frame_;
+  if (odometry_.empty()) {
+    why = "no odometry received";
+    return false;
+  }
+  if (stamp < odometry_.front().stamp) {
+    why = "stamp older than the odometry kept";
+    return false;
+  }
+  if (stamp > odometry_.back().stamp) {
+    why = "no odometry at the stamp yet";
+    return false;
+  }
+  const auto after = std::lower_bound(odometry_.begin(), odometry_.end(), stamp,
+                                      [](const Stamped& s, const ros::Time& t) { return s.stamp < t; });
+  if (after->stamp == stamp || after == odometry_.begin()) {
+    pose = after->pose;
+    return true;
+  }
+  const Stamped& before = *std::prev(after);
+  const double a = (stamp - before.stamp).toSec() / (after->stamp - before.stamp).toSec();
+  const Eigen::Quaterniond q0(before.pose.linear()), q1(after->pose.linear());
+  pose.setIdentity();
+  pose.linear() = q0.slerp(a, q1).toRotationMatrix();
+  pose.translation() = (1.0 - a) * before.pose.translation() + a * after->pose.translation();
+  return true;
+}
+
+bool EgoPoseSource::lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame,
+                                   double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(max_wait_s);
+  std::string child;
+  while (!interpolateOdometry(stamp, pose, child, why)) {
+    if (ros::WallTime::now() >= deadline || !ros::ok()) return false;
+    ros::WallDuration(kPollS).sleep();
+  }
+  if (child.empty() || child == vehicle_frame) return true;
+  // The odometry's child frame is not the frame the boxes are in: through the (static) mount.
+  try {
+    pose = pose * tf2::transformToEigen(tf_.lookupTransform(child, vehicle_frame, ros::Time(0)));
+    return true;
+  } catch (const tf2::TransformException& e) {
+    why = "odometry child frame " + child + ": " + e.what();
+    return false;
+  }
+}
+
+}  // namespace icanc
