@@ -37,9 +37,11 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     if (!checkParams(getName(), reader, why.empty() ? rate_problem : why)) return;
     hysteresis_.reset(new DangerHysteresis(params_));
 
+    // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
+    // onInit is still running on a loaded machine.
+    live_.reset(new LiveParams<DangerDetectorConfig, DangerParams>(pnh, params_, getName()));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "danger"));
     diagnostics_->updater().add("danger detector", this, &DangerDetectorNodelet::diagnose);
-    live_.reset(new LiveParams<DangerDetectorConfig, DangerParams>(pnh, params_, getName()));
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles_danger", 5);
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
     sub_ = nh.subscribe("obstacles", 5, &DangerDetectorNodelet::onObstacles, this);

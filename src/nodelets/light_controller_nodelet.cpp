@@ -45,12 +45,14 @@ class LightControllerNodelet : public nodelet::Nodelet {
     if (!checkParams(getName(), reader, why)) return;
     controller_.reset(new LightController(params));
 
+    // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
+    // onInit is still running on a loaded machine.
+    live_.reset(new LiveParams<LightControllerConfig, LightControllerParams>(pnh, params, getName()));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight"));
     diagnostics_->updater().add("light controller", this, &LightControllerNodelet::diagnose);
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
-    live_.reset(new LiveParams<LightControllerConfig, LightControllerParams>(pnh, params, getName()));
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);

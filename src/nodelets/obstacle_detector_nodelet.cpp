@@ -67,9 +67,11 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
     ego_source_.reset(new EgoPoseSource(nh, ego_params.source, fixed_frame_, *tf_buffer_));
 
+    // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
+    // onInit is still running on a loaded machine.
+    live_.reset(new LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>(pnh, params, getName()));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "lidar"));
     diagnostics_->updater().add("obstacle detector", this, &ObstacleDetectorNodelet::diagnose);
-    live_.reset(new LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>(pnh, params, getName()));
 
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles", 5);
     sub_ = nh.subscribe("points", 2, &ObstacleDetectorNodelet::onCloud, this);

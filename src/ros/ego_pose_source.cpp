@@ -22,6 +22,9 @@ EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
 
 bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_frame,
                            double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
+  // Wait only for a source that has published before: a vehicle configured for a pose it never
+  // publishes must not lose max_wait_s of latency on every cloud.
+  if (!hasPublished(vehicle_frame)) max_wait_s = 0.0;
   switch (source_) {
     case EgoMotionSource::kTf:
     case EgoMotionSource::kLidar: return lookupTf(stamp, vehicle_frame, max_wait_s, pose, why);
@@ -31,6 +34,14 @@ bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_fr
   }
   why = "no ego motion source";
   return false;
+}
+
+bool EgoPoseSource::hasPublished(const std::string& vehicle_frame) {
+  if (source_ == EgoMotionSource::kOdometry) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return !odometry_.empty();
+  }
+  return tf_.canTransform(fixed_frame_, vehicle_frame, ros::Time(0));
 }
 
 bool EgoPoseSource::lookupTf(const ros::Time& stamp, const std::string& vehicle_frame,

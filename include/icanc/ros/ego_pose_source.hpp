@@ -26,14 +26,16 @@ class EgoPoseSource {
                 tf2_ros::Buffer& tf);
 
   // The pose of vehicle_frame in the fixed frame at `stamp`, waiting at most max_wait_s (wall
-  // clock: the source may publish a moment after the cloud arrives). False, with the reason, when
-  // there is none by then (the caller extrapolates and counts).
+  // clock: the source may publish a moment after the cloud arrives; no wait while the source has
+  // never published). False, with the reason, when there is none by then (the caller
+  // extrapolates and counts).
   bool lookup(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
               Eigen::Isometry3d& fixed_T_vehicle, std::string& why);
 
   const std::string& fixedFrame() const { return fixed_frame_; }
 
  private:
+  bool hasPublished(const std::string& vehicle_frame);
   bool lookupTf(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
                 Eigen::Isometry3d& pose, std::string& why);
   bool lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,

@@ -1,0 +1,128 @@
+// rostest (issue 19): the ObstacleDetector takes the vehicle's motion from tf odom -> base_link at
+// each cloud's stamp. Every frame is answered whatever the poses do: measured (the twist in the
+// array), missing (extrapolated for max_extrapolation_s, then lost: relative velocities, an error),
+// back (a fresh start), jumping (re-based); the faults are counted in /diagnostics.
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <map>
+
+#include <gtest/gtest.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "graph_fixture.hpp"
+
+namespace icanc {
+namespace test {
+namespace {
+
+class EgoMotionFaults : public ::testing::Test {
+ protected:
+  EgoMotionFaults() : g_("approach_front.yaml") {
+    diag_ = g_.nh().subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
+        [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          for (const auto& s : m->status)
+            if (s.name.find("obstacle detector") != std::string::npos)
+              for (const auto& kv : s.values) counters_[kv.key] = kv.value;
+        });
+  }
+
+  // The vehicle's pose at `stamp` (odom -> base_link: x metres ahead, yaw) on /tf, then a frame.
+  // Returns the array the ObstacleDetector published for it (null when none came).
+  ObstacleArray::ConstPtr frame(const ros::Time& stamp, bool with_pose, double x, double yaw = 0.0) {
+    if (with_pose) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = stamp;
+      t.header.frame_id = "odom";
+      t.child_frame_id = "base_link";
+      t.transform.translation.x = x;
+      t.transform.rotation.z = std::sin(0.5 * yaw);
+      t.transform.rotation.w = std::cos(0.5 * yaw);
+      tf_.sendTransform(t);
+    }
+    g_.publishFrame(1.0, stamp);
+    ObstacleArray::ConstPtr answer;
+    waitFor([&] {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      for (const auto& a : g_.recorder().detections)
+        if (a->header.stamp == stamp) answer = a;
+      return answer != nullptr;
+    }, 10.0);
+    return answer;
+  }
+
+  long counter(const std::string& key) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = counters_.find(key);
+    return it == counters_.end() ? -1 : std::stol(it->second);
+  }
+
+  GraphFixture g_;
+  tf2_ros::TransformBroadcaster tf_;
+  std::mutex mutex_;
+  std::map<std::string, std::string> counters_;
+  ros::Subscriber diag_;  // last: destroyed first
+};
+
+TEST_F(EgoMotionFaults, EveryFrameIsAnsweredWhateverThePosesDo) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  const ros::Duration dt(0.1);
+  // The first frames may go unanswered while connections settle (bad_input's firstFrame).
+  ObstacleArray::ConstPtr a;
+  double x = 0.0;
+  for (int attempt = 0; attempt < 6 && !a; ++attempt) a = frame(stamp += dt, true, x += 0.2);
+  ASSERT_TRUE(a) << "the graph never answered";
+
+  // Measured: 2 m/s ahead (0.2 m per 0.1 s).
+  for (int i = 0; i < 5; ++i) a = frame(stamp += dt, true, x += 0.2);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->ego_motion_source, "tf");
+  EXPECT_EQ(a->ego_motion_status, "measured");
+  EXPECT_NEAR(a->ego_twist.linear.x, 2.0, 1e-3);
+
+  // Missing: extrapolated with the last twist, then lost after max_extrapolation_s (0.5 s).
+  std::map<std::string, int> seen;
+  for (int i = 0; i < 8; ++i) {
+    a = frame(stamp += dt, false, x += 0.2);
+    ASSERT_TRUE(a) << "frame " << i << " without a pose was not answered";
+    ++seen[a->ego_motion_status];
+  }
+  EXPECT_GE(seen["extrapolated"], 4);
+  EXPECT_EQ(seen["lost"], 1);
+  EXPECT_EQ(a->ego_motion_status, "none");  // after lost: relative, until poses return
+  EXPECT_EQ(a->ego_twist.linear.x, 0.0);
+
+  // Back: a fresh start, then measured again.
+  a = frame(stamp += dt, true, x += 0.2);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->ego_motion_status, "first");
+  a = frame(stamp += dt, true, x += 0.2);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->ego_motion_status, "measured");
+
+  // A relocalisation 100 m away: a jump, re-based; the next step is measured from there.
+  a = frame(stamp += dt, true, x += 100.0);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->ego_motion_status, "jump");
+  EXPECT_NEAR(a->ego_twist.linear.x, 2.0, 1e-3);  // the last twist carried over the jump
+  a = frame(stamp += dt, true, x += 0.2);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->ego_motion_status, "measured");
+
+  // Counted in diagnostics (published at 1 Hz).
+  EXPECT_TRUE(waitFor([&] { return counter("ego motion frames: lost") == 1; }, 5.0));
+  EXPECT_GE(counter("ego motion frames: extrapolated"), 4);
+  EXPECT_EQ(counter("ego motion frames: jump"), 1);
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace icanc
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_ego_motion_faults");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
