@@ -1,5 +1,6 @@
 // Ray-cast model of a spinning multi-beam LiDAR against a scene of a ground plane and
-// boxes / vertical cylinders moving at constant velocity. ROS-free, deterministic from a seed.
+// boxes / vertical cylinders moving at constant velocity or along a path of straights and arcs.
+// ROS-free, deterministic from a seed.
 // Used to make the project's own test and demo data (no recorded data needed).
 #pragma once
 
@@ -53,7 +54,7 @@ struct SceneObject {
                                                  // cylinder: diameter, diameter, height [m]
   float yaw = 0.0f;                              // [rad] about the world z axis at t = 0
   Eigen::Vector3f position{0.0f, 0.0f, 0.0f};    // world position of the bottom centre at t = 0
-  Eigen::Vector3f velocity{0.0f, 0.0f, 0.0f};    // world velocity [m/s]
+  Eigen::Vector3f velocity{0.0f, 0.0f, 0.0f};    // world velocity [m/s] (without a path)
   double start_s = 0.0;                          // moves only between start_s and stop_s
   double stop_s = 1e9;
   // When not empty, the object follows this path (a car along a bend) instead of `velocity`:
