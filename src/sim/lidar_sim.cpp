@@ -36,12 +36,24 @@ struct PreparedObject {
 Eigen::Vector3f SceneObject::positionAt(double t) const {
   // `position` is where the object is at t = 0; it moves only inside [start_s, stop_s].
   const double moved = clampTime(t, *this) - clampTime(0.0, *this);
-  return position + velocity * static_cast<float>(moved);
+  if (path.empty()) return position + velocity * static_cast<float>(moved);
+  const PlanarPose p = poseAlong(path, moved);  // path from its start, heading +x ...
+  const double c = std::cos(double(yaw)), s = std::sin(double(yaw));  // ... turned to `yaw`
+  return position + Eigen::Vector3f(float(c * p.x - s * p.y), float(s * p.x + c * p.y), 0.0f);
 }
 
 Eigen::Vector3f SceneObject::velocityAt(double t) const {
-  if (t >= start_s && t < stop_s) return velocity;
-  return Eigen::Vector3f::Zero();
+  if (!(t >= start_s && t < stop_s)) return Eigen::Vector3f::Zero();
+  if (path.empty()) return velocity;
+  const double heading = double(yawAt(t));
+  const double speed = segmentAt(path, t - clampTime(0.0, *this)).speed_mps;
+  return Eigen::Vector3f(float(speed * std::cos(heading)), float(speed * std::sin(heading)), 0.0f);
+}
+
+float SceneObject::yawAt(double t) const {
+  if (path.empty()) return yaw;
+  const double moved = clampTime(t, *this) - clampTime(0.0, *this);
+  return static_cast<float>(double(yaw) + poseAlong(path, moved).theta);
 }
 
 void renderScan(const Scene& scene, double t, const Eigen::Isometry3f& sensor_pose,
@@ -97,7 +109,7 @@ void renderScan(const Scene& scene, double t, const Eigen::Isometry3f& sensor_po
     p.center_sq = p.center_sensor.squaredNorm();
     if (std::sqrt(p.center_sq) - p.radius > max_range) continue;  // cannot be seen
     const Eigen::Matrix3d world_from_local =
-        Eigen::AngleAxisd(double(o.yaw), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        Eigen::AngleAxisd(double(o.yawAt(t)), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     p.sensor_to_local = world_from_local.transpose() * world_from_sensor;
     p.origin_local = -(p.sensor_to_local * p.center_sensor);
     objects.push_back(p);
@@ -204,7 +216,8 @@ std::vector<ObjectTruth> objectTruths(const Scene& scene, double t,
     truth.type = o.type;
     truth.size = o.size;
     truth.center = world_to_frame * (o.positionAt(t) + Eigen::Vector3f(0.0f, 0.0f, 0.5f * o.size.z()));
-    const Eigen::Vector3f heading = rot * Eigen::Vector3f(std::cos(o.yaw), std::sin(o.yaw), 0.0f);
+    const float yaw = o.yawAt(t);
+    const Eigen::Vector3f heading = rot * Eigen::Vector3f(std::cos(yaw), std::sin(yaw), 0.0f);
     truth.yaw = std::atan2(heading.y(), heading.x());
     truth.velocity = rot * o.velocityAt(t);
     truths.push_back(truth);

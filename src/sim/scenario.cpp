@@ -41,6 +41,64 @@ Eigen::Vector3f getVector(const YAML::Node& node, const std::string& key,
   return v;
 }
 
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Limits of the path keys (ego and objects; they also keep the pose integration finite).
+constexpr double kMaxSpeedMps = 100.0;
+constexpr double kMaxYawRateDegS = 360.0;
+constexpr std::size_t kMaxPathSegments = 10000;
+
+// Reads a number and checks lo <= value <= hi (and finite).
+double getBounded(const YAML::Node& node, const std::string& key, const std::string& name,
+                  double fallback, double lo, double hi, const Context& ctx) {
+  const double value = get<double>(node, key, fallback, ctx);
+  if (!std::isfinite(value) || value < lo || value > hi)
+    ctx.fail(name, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                       std::to_string(value));
+  return value;
+}
+
+void rejectUnknownKeys(const YAML::Node& node, const std::vector<std::string>& known,
+                       const std::string& name, const Context& ctx) {
+  for (const auto& entry : node) {
+    if (!entry.first.IsScalar()) ctx.fail(name, "keys must be names");
+    const std::string key = entry.first.Scalar();
+    bool found = false;
+    for (const std::string& k : known) found = found || k == key;
+    if (!found) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      ctx.fail(name + "." + key, "unknown key (known: " + list + ")");
+    }
+  }
+}
+
+// A path: a non-empty list of {duration_s, speed_mps, yaw_rate_deg_s (default 0)}.
+std::vector<PathSegment> readSegments(const YAML::Node& segments, const std::string& name,
+                                      const Context& ctx) {
+  if (!segments.IsSequence() || segments.size() == 0)
+    ctx.fail(name, "must be a non-empty list of {duration_s, speed_mps, yaw_rate_deg_s}");
+  if (segments.size() > kMaxPathSegments)
+    ctx.fail(name, "at most " + std::to_string(kMaxPathSegments) + " segments");
+  std::vector<PathSegment> out;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const YAML::Node seg = segments[i];
+    const std::string at = name + "[" + std::to_string(i) + "]";
+    if (!seg.IsMap()) ctx.fail(at, "must be a mapping {duration_s, speed_mps, yaw_rate_deg_s}");
+    rejectUnknownKeys(seg, {"duration_s", "speed_mps", "yaw_rate_deg_s"}, at, ctx);
+    for (const char* required : {"duration_s", "speed_mps"})
+      if (!seg[required]) ctx.fail(at + "." + required, "missing");
+    PathSegment e;
+    e.duration_s = getBounded(seg, "duration_s", at + ".duration_s", 0.0, 0.0, 86400.0, ctx);
+    if (!(e.duration_s > 0.0)) ctx.fail(at + ".duration_s", "must be > 0");
+    e.speed_mps = getBounded(seg, "speed_mps", at + ".speed_mps", 0.0, 0.0, kMaxSpeedMps, ctx);
+    e.yaw_rate_rad_s = kDegToRad * getBounded(seg, "yaw_rate_deg_s", at + ".yaw_rate_deg_s", 0.0,
+                                              -kMaxYawRateDegS, kMaxYawRateDegS, ctx);
+    out.push_back(e);
+  }
+  return out;
+}
+
 SceneObject readObject(const YAML::Node& node, std::uint32_t default_id, const Context& ctx) {
   SceneObject o;
   o.id = get<std::uint32_t>(node, "id", default_id, ctx);
@@ -53,6 +111,11 @@ SceneObject readObject(const YAML::Node& node, std::uint32_t default_id, const C
   o.yaw = get<float>(node, "yaw_deg", 0.0f, ctx) * static_cast<float>(M_PI / 180.0);
   o.position = getVector(node, "position", o.position, ctx);
   o.velocity = getVector(node, "velocity", o.velocity, ctx);
+  if (const YAML::Node path = node["path"]) {
+    const std::string name = "objects[" + std::to_string(default_id) + "].path";
+    if (node["velocity"]) ctx.fail(name, "give either velocity or path, not both");
+    o.path = readSegments(path, name, ctx);
+  }
   o.start_s = get<double>(node, "start_s", o.start_s, ctx);
   o.stop_s = get<double>(node, "stop_s", o.stop_s, ctx);
   if ((o.size.array() <= 0.0f).any())
@@ -62,12 +125,60 @@ SceneObject readObject(const YAML::Node& node, std::uint32_t default_id, const C
   return o;
 }
 
+// The ego block: `velocity` (constant, any direction), or `speed_mps` + `yaw_rate_deg_s` (one
+// arc for the whole scenario), or `segments` (a list of them with durations). One of the three.
+void readEgo(const YAML::Node& ego, Scenario& s, const Context& ctx) {
+  if (!ego.IsMap()) ctx.fail("ego", "must be a mapping");
+  rejectUnknownKeys(ego, {"frame", "velocity", "speed_mps", "yaw_rate_deg_s", "segments"}, "ego",
+                    ctx);
+  s.vehicle_frame = get<std::string>(ego, "frame", s.vehicle_frame, ctx);
+  const int forms =
+      (ego["velocity"] ? 1 : 0) + (ego["speed_mps"] ? 1 : 0) + (ego["segments"] ? 1 : 0);
+  if (forms > 1)
+    ctx.fail("ego", "give one of velocity, speed_mps (with yaw_rate_deg_s) or segments");
+  if (ego["yaw_rate_deg_s"] && !ego["speed_mps"])
+    ctx.fail("ego.yaw_rate_deg_s", "needs ego.speed_mps (or use ego.segments)");
+  s.ego_velocity = getVector(ego, "velocity", s.ego_velocity, ctx);
+  if (ego["speed_mps"]) {
+    PathSegment one;
+    one.duration_s = s.duration_s;  // the last segment continues anyway
+    one.speed_mps = getBounded(ego, "speed_mps", "ego.speed_mps", 0.0, 0.0, kMaxSpeedMps, ctx);
+    one.yaw_rate_rad_s = kDegToRad * getBounded(ego, "yaw_rate_deg_s", "ego.yaw_rate_deg_s", 0.0,
+                                                -kMaxYawRateDegS, kMaxYawRateDegS, ctx);
+    s.ego_segments.push_back(one);
+  }
+  if (const YAML::Node segments = ego["segments"])
+    s.ego_segments = readSegments(segments, "ego.segments", ctx);
+}
+
 }  // namespace
 
 Eigen::Isometry3f Scenario::vehiclePose(double t) const {
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
-  pose.translation() = ego_velocity * static_cast<float>(t);
+  if (ego_segments.empty()) {
+    pose.translation() = ego_velocity * static_cast<float>(t);
+    return pose;
+  }
+  const PlanarPose p = poseAlong(ego_segments, t);
+  pose.linear() = Eigen::AngleAxisf(static_cast<float>(p.theta), Eigen::Vector3f::UnitZ()).matrix();
+  pose.translation() = Eigen::Vector3f(static_cast<float>(p.x), static_cast<float>(p.y), 0.0f);
   return pose;
+}
+
+EgoTwist Scenario::vehicleTwist(double t) const {
+  EgoTwist twist;
+  if (ego_segments.empty()) {
+    twist.linear = ego_velocity;  // the vehicle never turns: its axes are the world's
+    return twist;
+  }
+  const PathSegment& seg = segmentAt(ego_segments, t);
+  twist.linear = Eigen::Vector3f(static_cast<float>(seg.speed_mps), 0.0f, 0.0f);
+  twist.yaw_rate = static_cast<float>(seg.yaw_rate_rad_s);
+  return twist;
+}
+
+Eigen::Vector3f Scenario::vehicleVelocity(double t) const {
+  return vehiclePose(t).linear() * vehicleTwist(t).linear;
 }
 
 std::size_t Scenario::frames() const {
@@ -113,10 +224,7 @@ Scenario loadScenario(const std::string& path) {
   } catch (const std::exception& e) {
     ctx.fail("sensor.model", e.what());
   }
-  if (const YAML::Node ego = root["ego"]) {
-    s.vehicle_frame = get<std::string>(ego, "frame", s.vehicle_frame, ctx);
-    s.ego_velocity = getVector(ego, "velocity", s.ego_velocity, ctx);
-  }
+  if (const YAML::Node ego = root["ego"]) readEgo(ego, s, ctx);
   if (const YAML::Node noise = root["noise"]) {
     s.noise.range_std_m = get<float>(noise, "range_std_m", 0.0f, ctx);
     s.noise.dropout_prob = get<float>(noise, "dropout_prob", 0.0f, ctx);

@@ -8,7 +8,9 @@ namespace sim {
 
 std::vector<TruthBox> truthBoxes(const Scenario& scenario, double t) {
   const Eigen::Isometry3f world_to_vehicle = scenario.vehiclePose(t).inverse();
-  const Eigen::Vector3f ego_velocity = world_to_vehicle.linear() * scenario.ego_velocity;
+  // Translational relative velocity: the world velocities' difference in the vehicle's axes at t
+  // (a turning vehicle's frame also rotates; that term, -yaw_rate x r, is not part of it).
+  const Eigen::Vector3f ego_velocity = world_to_vehicle.linear() * scenario.vehicleVelocity(t);
   std::vector<TruthBox> boxes;
   boxes.reserve(scenario.scene.objects.size());
   for (const ObjectTruth& truth : objectTruths(scenario.scene, t, world_to_vehicle)) {

@@ -1,5 +1,6 @@
 // icanc_sim_bag: renders a scenario file (config/scenarios/*.yaml) into a rosbag with the LiDAR
-// clouds (sensor frame), /tf_static (vehicle -> sensor mount), /tf (odom -> vehicle) and
+// clouds (sensor frame), /tf_static (vehicle -> sensor mount), /tf (odom -> vehicle), /odom
+// (nav_msgs/Odometry: the vehicle's pose in odom, its twist in the vehicle frame) and
 // /ground_truth (icanc/GroundTruthArray, same stamp as each cloud, vehicle frame): every scene
 // object's true box, velocity relative to the vehicle, returns inside the box and its danger
 // label from the scripted motion (docs/design.md, "Ground truth for dangerous"). The corridor
@@ -7,7 +8,7 @@
 // --profile. Prints, per object, when it is truly dangerous.
 //
 //   icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time 1000]
-//                 [--profile PROFILE.yaml] [--truth-topic /ground_truth]
+//                 [--profile PROFILE.yaml] [--truth-topic /ground_truth] [--odom-topic /odom]
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -19,6 +20,7 @@
 
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
+#include <nav_msgs/Odometry.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
@@ -41,9 +43,27 @@ geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3f& pose, const
   return t;
 }
 
+// The simulator's odometry at t: exact, as wheel odometry fused with an IMU would report it (pose
+// of the vehicle in odom, REP-105; twist in the vehicle frame, as nav_msgs/Odometry specifies).
+// Covariances stay zero: the motion is known exactly.
+nav_msgs::Odometry toOdometry(const icanc::sim::Scenario& s, double t, const ros::Time& stamp) {
+  nav_msgs::Odometry odom;
+  odom.header.stamp = stamp;
+  odom.header.frame_id = "odom";
+  odom.child_frame_id = s.vehicle_frame;
+  odom.pose.pose = tf2::toMsg(s.vehiclePose(t).cast<double>());
+  const icanc::sim::EgoTwist twist = s.vehicleTwist(t);
+  odom.twist.twist.linear.x = twist.linear.x();
+  odom.twist.twist.linear.y = twist.linear.y();
+  odom.twist.twist.linear.z = twist.linear.z();
+  odom.twist.twist.angular.z = twist.yaw_rate;
+  return odom;
+}
+
 int usage() {
   std::cerr << "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
-               "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n";
+               "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n"
+               "                     [--odom-topic /odom]\n";
   return 2;
 }
 
@@ -68,7 +88,8 @@ struct Episodes {
 int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string scenario_path = argv[1], bag_path = argv[2];
-  std::string topic = "/points", truth_topic = "/ground_truth", profile_override;
+  std::string topic = "/points", truth_topic = "/ground_truth", odom_topic = "/odom",
+              profile_override;
   double start_time = 1000.0;
   for (int i = 3; i < argc; i += 2) {
     if (i + 1 >= argc) return usage();
@@ -77,6 +98,7 @@ int main(int argc, char** argv) {
     else if (flag == "--start-time") start_time = std::atof(argv[i + 1]);
     else if (flag == "--profile") profile_override = argv[i + 1];
     else if (flag == "--truth-topic") truth_topic = argv[i + 1];
+    else if (flag == "--odom-topic") odom_topic = argv[i + 1];
     else return usage();
   }
   ros::Time::init();
@@ -132,6 +154,7 @@ int main(int argc, char** argv) {
       tf2_msgs::TFMessage odom;
       odom.transforms.push_back(toTransform(s.vehiclePose(t), "odom", s.vehicle_frame, stamp));
       bag.write("/tf", stamp, odom);
+      bag.write(odom_topic, stamp, toOdometry(s, t, stamp));
       bag.write(topic, stamp, cloud);
       bag.write(truth_topic, stamp,
                 icanc::toGroundTruthArray(f.boxes, f.labels, f.num_points, corridor, stamp,

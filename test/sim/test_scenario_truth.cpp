@@ -113,6 +113,20 @@ TEST(ScenarioTruth, NightRoadScenarios) {
   expectDanger(s, 1, 32, 9.1, 12.2);
 }
 
+// The turning scenarios (issue 19): the truth follows the vehicle along its path.
+TEST(ScenarioTruth, TurningRoadScenarios) {
+  Summary s = summarise("night_bend_parked_cars");
+  EXPECT_EQ(s.profile, "carla_model3");
+  EXPECT_EQ(s.frames, 141u);
+  EXPECT_EQ(s.total(), 0u);  // the parked cars and posts on the outside of the bend: never
+  s = summarise("night_junction_turn_pedestrian");
+  EXPECT_EQ(s.dangerous.size(), 1u);  // the pedestrian on the crossing of the side road only
+  expectDanger(s, 1, 31, 5.4, 8.4);
+  s = summarise("night_s_bend_oncoming");
+  EXPECT_EQ(s.dangerous.size(), 1u);  // the broken-down car only, never the oncoming traffic
+  expectDanger(s, 5, 32, 10.3, 13.4);
+}
+
 TEST(ScenarioTruth, RenderedFrameCountsPointsInTheTrueBoxesInTheVehicleFrame) {
   const std::string path = repoPath("config/scenarios/indoor_cluttered_course.yaml");
   const Scenario s = loadScenario(path);
@@ -192,6 +206,58 @@ TEST(ScenarioTruth, TrajectoriesAreSampledFinerThanFramesAndPastTheEnd) {
   EXPECT_THROW((ScenarioTruth{s, c, 0.0}), std::invalid_argument);
   c.horizon_s = 0.0;
   EXPECT_THROW((ScenarioTruth{s, c}), std::invalid_argument);
+}
+
+// A vehicle on a left circle (10 m/s, 18 deg/s: R = 31.83 m about (0, R)) and two small static
+// posts: one on its path 3 s ahead, one straight ahead of its start 25 m away.
+Scenario turningScene() {
+  Scenario s;
+  s.duration_s = 4.0;
+  s.rate_hz = 10.0;
+  s.ego_segments.push_back({4.0, 10.0, M_PI / 10.0});
+  const double r = 10.0 / (M_PI / 10.0), phi = 3.0 * M_PI / 10.0;
+  SceneObject on_path;
+  on_path.id = 1;
+  on_path.type = "pole";
+  on_path.shape = Shape::kCylinder;
+  on_path.size = Eigen::Vector3f(0.1f, 0.1f, 1.0f);
+  on_path.position =
+      Eigen::Vector3f(float(r * std::sin(phi)), float(r * (1.0 - std::cos(phi))), 0.0f);
+  s.scene.objects.push_back(on_path);
+  SceneObject straight_ahead = on_path;
+  straight_ahead.id = 2;
+  straight_ahead.position = Eigen::Vector3f(25.0f, 0.0f, 0.0f);
+  s.scene.objects.push_back(straight_ahead);
+  return s;
+}
+
+TEST(ScenarioTruth, TurningVehicleIsJudgedAlongItsPath) {
+  const Scenario s = turningScene();
+  CorridorParams c;  // |y| <= 1.0, 0 <= x <= 2.5, 3 s
+  const ScenarioTruth truth(s, c);
+  const double r = 10.0 / (M_PI / 10.0);
+  // The post on the path is 13 m to the side of the start heading, yet dangerous: the vehicle
+  // reaches it at 3 s. It enters the corridor when its chord is 2.5 m + its half size, i.e. at
+  // 3 s - R asin(2.55 / R) / 10 m/s (within a sample, 0.02 s).
+  const FrameTruth f0 = truth.frame(0.0);
+  EXPECT_GT(f0.boxes[0].center.y(), 13.0);
+  EXPECT_TRUE(f0.labels[0].dangerous);
+  EXPECT_NEAR(f0.labels[0].time_to_corridor, 3.0 - r * std::asin(2.55 / r) / 10.0, 0.025);
+  // Straight ahead at 25 m: a straight-driving vehicle would reach it in 2.2 s, the turning one
+  // passes 8 m beside it.
+  for (std::size_t k = 0; k < s.frames(); ++k) {
+    const FrameTruth f = truth.frame(static_cast<double>(k) / s.rate_hz);
+    EXPECT_FALSE(f.labels[1].dangerous) << f.t;
+  }
+  // Boxes at t are in the vehicle frame at t: after a quarter circle (5 s: heading +y, at (R, R))
+  // the straight-ahead post is behind-left and the posts' velocity is minus the vehicle's, in its
+  // own axes.
+  const std::vector<TruthBox> quarter = truthBoxes(s, 5.0);
+  EXPECT_NEAR(quarter[1].center.x(), -r, 1e-3);
+  EXPECT_NEAR(quarter[1].center.y(), -(25.0 - r), 1e-3);
+  EXPECT_NEAR(quarter[1].yaw, -M_PI / 2.0, 1e-5);
+  EXPECT_NEAR(quarter[1].velocity.x(), -10.0, 1e-4);
+  EXPECT_NEAR(quarter[1].velocity.y(), 0.0, 1e-4);
 }
 
 TEST(ScenarioTruth, ProfileResolvesBesideTheScenarioDirectory) {

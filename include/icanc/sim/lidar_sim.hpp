@@ -1,5 +1,6 @@
 // Ray-cast model of a spinning multi-beam LiDAR against a scene of a ground plane and
-// boxes / vertical cylinders moving at constant velocity. ROS-free, deterministic from a seed.
+// boxes / vertical cylinders moving at constant velocity or along a path of straights and arcs.
+// ROS-free, deterministic from a seed.
 // Used to make the project's own test and demo data (no recorded data needed).
 #pragma once
 
@@ -11,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "icanc/core/types.hpp"
+#include "icanc/sim/path.hpp"
 
 namespace icanc {
 namespace sim {
@@ -50,16 +52,21 @@ struct SceneObject {
   Shape shape = Shape::kBox;
   Eigen::Vector3f size{0.5f, 0.5f, 1.7f};        // box: length (along yaw), width, height;
                                                  // cylinder: diameter, diameter, height [m]
-  float yaw = 0.0f;                              // [rad] about the world z axis
+  float yaw = 0.0f;                              // [rad] about the world z axis at t = 0
   Eigen::Vector3f position{0.0f, 0.0f, 0.0f};    // world position of the bottom centre at t = 0
-  Eigen::Vector3f velocity{0.0f, 0.0f, 0.0f};    // world velocity [m/s]
+  Eigen::Vector3f velocity{0.0f, 0.0f, 0.0f};    // world velocity [m/s] (without a path)
   double start_s = 0.0;                          // moves only between start_s and stop_s
   double stop_s = 1e9;
+  // When not empty, the object follows this path (a car along a bend) instead of `velocity`:
+  // from `position` with heading `yaw`, its speed along its heading and its yaw turning with it.
+  std::vector<PathSegment> path;
 
   // Bottom centre in the world at time t (holds still before start_s and after stop_s).
   Eigen::Vector3f positionAt(double t) const;
   // Velocity in the world at time t (zero outside [start_s, stop_s)).
   Eigen::Vector3f velocityAt(double t) const;
+  // Yaw about the world z axis at time t: `yaw`, plus the path's turn so far.
+  float yawAt(double t) const;
 };
 
 struct Scene {

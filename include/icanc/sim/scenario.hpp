@@ -4,13 +4,21 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
 #include "icanc/sim/lidar_sim.hpp"
+#include "icanc/sim/path.hpp"
 
 namespace icanc {
 namespace sim {
+
+// The vehicle's motion at one time: velocity in its own frame and yaw rate.
+struct EgoTwist {
+  Eigen::Vector3f linear = Eigen::Vector3f::Zero();  // [m/s] in the vehicle frame
+  float yaw_rate = 0.0f;                             // [rad/s]
+};
 
 struct Scenario {
   std::string name;
@@ -20,6 +28,10 @@ struct Scenario {
   std::string sensor_frame = "lidar";
   Eigen::Isometry3f sensor_mount = Eigen::Isometry3f::Identity();  // sensor in vehicle frame
   Eigen::Vector3f ego_velocity = Eigen::Vector3f::Zero();  // vehicle velocity in the world [m/s]
+  // When not empty, the vehicle follows these segments from the origin (facing +x) instead of
+  // ego_velocity (poseAlong: exact arcs, continuous at the joins; the last segment's motion
+  // continues past its end, where the truth looks a reaction time past the last frame).
+  std::vector<PathSegment> ego_segments;
   double duration_s = 10.0;
   double rate_hz = 10.0;
   std::uint64_t seed = 1;
@@ -31,6 +43,11 @@ struct Scenario {
 
   // Vehicle frame -> world at time t (the vehicle starts at the world origin, facing +x).
   Eigen::Isometry3f vehiclePose(double t) const;
+  // The vehicle's velocity in its own frame and its yaw rate at time t (at a join: the later
+  // segment's).
+  EgoTwist vehicleTwist(double t) const;
+  // The vehicle's velocity in the world at time t.
+  Eigen::Vector3f vehicleVelocity(double t) const;
   Eigen::Isometry3f sensorPose(double t) const { return vehiclePose(t) * sensor_mount; }
   std::size_t frames() const;
 };

@@ -15,8 +15,9 @@
 namespace icanc {
 namespace sim {
 
-// Every scene object's true box at time t in the vehicle frame (scene order); velocity = object
-// world velocity minus ego velocity, rotated into the vehicle frame.
+// Every scene object's true box at time t in the vehicle frame at t (scene order, the vehicle at
+// scenario.vehiclePose(t), turning or not); velocity = object world velocity minus the vehicle's
+// world velocity at t, rotated into the vehicle frame.
 std::vector<TruthBox> truthBoxes(const Scenario& scenario, double t);
 
 struct FrameTruth {

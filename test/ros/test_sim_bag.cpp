@@ -1,0 +1,77 @@
+// icanc_sim_bag's ego motion topics (issue 19): for a vehicle that turns, /odom (nav_msgs/Odometry)
+// is written at every cloud stamp with the pose of base_link in odom equal to /tf's and to the
+// closed-form circle, and the twist in base_link (speed along x, yaw rate about z).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+
+namespace {
+
+double yawOf(const geometry_msgs::Quaternion& q) {
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
+TEST(SimBag, OdometryFollowsTheTurningVehicleAtEveryCloudStamp) {
+  const std::string dir = ::testing::TempDir();
+  const std::string scenario = dir + "icanc_sim_bag_turn.yaml";
+  const std::string bag_path = dir + "icanc_sim_bag_turn.bag";
+  // 2 s straight at 8 m/s, then a left circle at 8 m/s and 30 deg/s (R = 15.28 m about (16, R)).
+  std::ofstream(scenario) << "name: turn\nduration_s: 4\nrate_hz: 5\nprofile: zebra\n"
+                             "sensor: {model: vlp16, mount_xyz: [0, 0, 1]}\n"
+                             "ego:\n  segments:\n    - {duration_s: 2, speed_mps: 8}\n"
+                             "    - {duration_s: 2, speed_mps: 8, yaw_rate_deg_s: 30}\n"
+                             "objects:\n  - {position: [10, 5, 0]}\n";
+  const std::string profile = std::string(ICANC_SOURCE_DIR) + "/config/zebra.yaml";
+  const std::string command = std::string(ICANC_SIM_BAG) + " " + scenario + " " + bag_path +
+                              " --profile " + profile + " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+
+  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+  std::vector<ros::Time> clouds;
+  std::vector<nav_msgs::Odometry> odoms;
+  std::vector<geometry_msgs::TransformStamped> tfs;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (m.getTopic() == "/points")
+      clouds.push_back(m.instantiate<sensor_msgs::PointCloud2>()->header.stamp);
+    if (m.getTopic() == "/odom") odoms.push_back(*m.instantiate<nav_msgs::Odometry>());
+    if (m.getTopic() == "/tf")
+      tfs.push_back(m.instantiate<tf2_msgs::TFMessage>()->transforms.at(0));
+  }
+  ASSERT_EQ(clouds.size(), 21u);
+  ASSERT_EQ(odoms.size(), clouds.size());
+  ASSERT_EQ(tfs.size(), clouds.size());
+  const double w = 30.0 * M_PI / 180.0, r = 8.0 / w;
+  for (std::size_t k = 0; k < clouds.size(); ++k) {
+    const nav_msgs::Odometry& o = odoms[k];
+    const double t = 0.2 * double(k);
+    EXPECT_EQ(o.header.stamp, clouds[k]);
+    EXPECT_EQ(o.header.frame_id, "odom");
+    EXPECT_EQ(o.child_frame_id, "base_link");
+    EXPECT_NEAR(o.pose.pose.position.x, tfs[k].transform.translation.x, 1e-9);
+    EXPECT_NEAR(o.pose.pose.position.y, tfs[k].transform.translation.y, 1e-9);
+    EXPECT_NEAR(yawOf(o.pose.pose.orientation), yawOf(tfs[k].transform.rotation), 1e-9);
+    const double turned = t < 2.0 ? 0.0 : w * (t - 2.0);
+    const double x = t < 2.0 ? 8.0 * t : 16.0 + r * std::sin(turned);
+    const double y = t < 2.0 ? 0.0 : r * (1.0 - std::cos(turned));
+    EXPECT_NEAR(o.pose.pose.position.x, x, 1e-4) << t;
+    EXPECT_NEAR(o.pose.pose.position.y, y, 1e-4) << t;
+    EXPECT_NEAR(yawOf(o.pose.pose.orientation), turned, 1e-5) << t;
+    EXPECT_NEAR(o.twist.twist.linear.x, 8.0, 1e-6);  // in base_link: always straight ahead
+    EXPECT_NEAR(o.twist.twist.linear.y, 0.0, 1e-6);
+    EXPECT_NEAR(o.twist.twist.angular.z, t < 2.0 ? 0.0 : w, 1e-6) << t;  // at 2 s: the arc's
+  }
+  bag.close();
+  std::remove(bag_path.c_str());
+}
+
+}  // namespace
