@@ -216,7 +216,7 @@ TEST(LidarOdometry, ProfilesCarryAValidSection) {
     EXPECT_EQ(validate(p.lidar_odometry), "") << name;
   }
   const Profile kitti = loadProfile(configDir() + "kitti_hdl64e.yaml");
-  EXPECT_EQ(kitti.lidar_odometry.input_stride, 2);  // the section is read, not the defaults
+  EXPECT_EQ(kitti.lidar_odometry.input_stride, 3);  // the section is read, not the defaults
 }
 
 }  // namespace
