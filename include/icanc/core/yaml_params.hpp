@@ -22,8 +22,9 @@ struct Profile {
   LidarOdometryParams lidar_odometry;  // lidar_odometry section (issue 19)
 };
 
-// Loads the obstacle_detector, danger_detector, light_controller, ground_truth and illumination_monitor sections of a profile and
-// validates them; throws std::runtime_error naming the file and the key or problem.
+// Loads the obstacle_detector, danger_detector, light_controller, ground_truth, illumination_monitor
+// and lidar_odometry sections of a profile and validates them; throws std::runtime_error naming
+// the file and the key or problem.
 Profile loadProfile(const std::string& path);
 
 }  // namespace icanc
