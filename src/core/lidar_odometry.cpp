@@ -11,13 +11,15 @@ namespace icanc {
 
 double odometryNowMs() {
   return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch()).count();
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 std::string validate(const LidarOdometryParams& p) {
   std::ostringstream why;
   const auto positive = [&](const char* key, double v) {
-    if (why.tellp() == 0 && !(v > 0.0 && std::isfinite(v))) why << key << " must be > 0 (got " << v << ")";
+    if (why.tellp() == 0 && !(v > 0.0 && std::isfinite(v)))
+      why << key << " must be > 0 (got " << v << ")";
   };
   positive("voxel_m", p.voxel_m);
   positive("max_range_m", p.max_range_m);
@@ -49,11 +51,16 @@ std::string validate(const LidarOdometryParams& p) {
 
 const char* toString(LidarOdometryStats::Result result) {
   switch (result) {
-    case LidarOdometryStats::Result::kFirstFrame: return "first frame";
-    case LidarOdometryStats::Result::kRegistered: return "registered";
-    case LidarOdometryStats::Result::kDegenerate: return "degenerate (motion prior)";
-    case LidarOdometryStats::Result::kExtrapolated: return "too few points (motion prior)";
-    case LidarOdometryStats::Result::kReset: return "reset (time went backwards)";
+    case LidarOdometryStats::Result::kFirstFrame:
+      return "first frame";
+    case LidarOdometryStats::Result::kRegistered:
+      return "registered";
+    case LidarOdometryStats::Result::kDegenerate:
+      return "degenerate (motion prior)";
+    case LidarOdometryStats::Result::kExtrapolated:
+      return "too few points (motion prior)";
+    case LidarOdometryStats::Result::kReset:
+      return "reset (time went backwards)";
   }
   return "?";
 }
@@ -83,7 +90,8 @@ void VoxelIndex::grow() {
   }
 }
 
-std::int32_t& VoxelIndex::findOrInsert(std::uint64_t key, std::int32_t value_if_new, bool& inserted) {
+std::int32_t& VoxelIndex::findOrInsert(std::uint64_t key, std::int32_t value_if_new,
+                                       bool& inserted) {
   if (size_ * 2 >= slots_.size()) grow();  // load <= 1/2: short probes
   const std::size_t mask = slots_.size() - 1;
   for (std::size_t i = slotOf(key);; i = (i + 1) & mask) {
@@ -251,8 +259,8 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       if (block != nb.block) {
         nb.block = block;
         for (int c = 0; c < 8; ++c)
-          nb.voxels[c] = map_index_.find(packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1),
-                                                 base[2] + ((c >> 2) & 1)));
+          nb.voxels[c] = map_index_.find(
+              packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
       }
       float best = max_d2;
       const Eigen::Vector3f* nearest = nullptr;
@@ -309,7 +317,7 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   if (matched < 6 || static_cast<double>(matched) < params_.min_correspondence_ratio * n)
     return false;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian,
-                                                                        Eigen::EigenvaluesOnly);
+                                                                       Eigen::EigenvaluesOnly);
   if (!(eig.eigenvalues()(0) > 1e-3 * weight_sum)) return false;
   if ((result.translation() - guess.translation()).norm() > params_.max_correction_m) return false;
   return result.matrix().allFinite();

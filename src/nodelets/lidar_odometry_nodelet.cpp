@@ -111,10 +111,13 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     const LidarOdometryStats& stats = odometry_->lastStats();
     using Result = LidarOdometryStats::Result;
     if (stats.result == Result::kReset) {
-      NODELET_WARN_THROTTLE(1.0, "cloud stamp went backwards (bag loop?): odometry restarted at identity");
+      NODELET_WARN_THROTTLE(
+          1.0, "cloud stamp went backwards (bag loop?): odometry restarted at identity");
     } else if (stats.result == Result::kDegenerate) {
-      NODELET_WARN_THROTTLE(1.0, "registration degenerate (%zu of %zu points matched): pose from "
-                            "the motion prior", stats.correspondences, stats.registration_points);
+      NODELET_WARN_THROTTLE(1.0,
+                            "registration degenerate (%zu of %zu points matched): pose from "
+                            "the motion prior",
+                            stats.correspondences, stats.registration_points);
     } else if (stats.result == Result::kExtrapolated) {
       NODELET_WARN_THROTTLE(1.0, "cloud with %zu usable points (< %d): pose from the motion prior",
                             stats.registration_points, odometry_->params().min_points);
@@ -124,7 +127,8 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     input_->processed(last_ms_);
   }
 
-  void publish(const ros::Time& stamp, const Eigen::Isometry3d& pose, LidarOdometryStats::Result result) {
+  void publish(const ros::Time& stamp, const Eigen::Isometry3d& pose,
+               LidarOdometryStats::Result result) {
     geometry_msgs::TransformStamped tf = tf2::eigenToTransform(pose);
     tf.header.stamp = stamp;
     tf.header.frame_id = odom_frame_;

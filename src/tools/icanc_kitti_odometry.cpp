@@ -55,8 +55,8 @@ std::string frameName(const std::string& dir, int frame) {
 using Track = std::map<int, Eigen::Vector3d>;  // frame -> centre in the velodyne frame
 
 // Tracks of parked objects, from the labels alone (see the file comment).
-std::set<int> staticTracks(const std::map<int, Track>& tracks, const std::map<int, std::string>& type,
-                           int min_common, double rigid_m) {
+std::set<int> staticTracks(const std::map<int, Track>& tracks,
+                           const std::map<int, std::string>& type, int min_common, double rigid_m) {
   std::set<int> out;
   for (const auto& a : tracks) {
     const std::string& t = type.at(a.first);
@@ -90,21 +90,30 @@ int main(int argc, char** argv) {
   bool per_track = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--kitti" && i + 1 < argc) dir = argv[++i];
-    else if (a == "--profile" && i + 1 < argc) profile = argv[++i];
-    else if (a == "--frames" && i + 1 < argc) max_frames = std::atoi(argv[++i]);
-    else if (a == "--min-common" && i + 1 < argc) min_common = std::atoi(argv[++i]);
-    else if (a == "--rigid-m" && i + 1 < argc) rigid_m = std::atof(argv[++i]);
-    else if (a == "--per-track") per_track = true;
+    if (a == "--kitti" && i + 1 < argc)
+      dir = argv[++i];
+    else if (a == "--profile" && i + 1 < argc)
+      profile = argv[++i];
+    else if (a == "--frames" && i + 1 < argc)
+      max_frames = std::atoi(argv[++i]);
+    else if (a == "--min-common" && i + 1 < argc)
+      min_common = std::atoi(argv[++i]);
+    else if (a == "--rigid-m" && i + 1 < argc)
+      rigid_m = std::atof(argv[++i]);
+    else if (a == "--per-track")
+      per_track = true;
     else {
-      std::fprintf(stderr, "usage: icanc_kitti_odometry [--kitti DIR] [--profile PROFILE.yaml] "
-                           "[--frames N] [--min-common N] [--rigid-m M] [--per-track]\n");
+      std::fprintf(stderr,
+                   "usage: icanc_kitti_odometry [--kitti DIR] [--profile PROFILE.yaml] "
+                   "[--frames N] [--min-common N] [--rigid-m M] [--per-track]\n");
       return 2;
     }
   }
   if (!std::ifstream(dir + "/calib/0000.txt").good()) {
-    std::printf("icanc_kitti_odometry: skipped, no KITTI sequence at %s "
-                "(see ../shared/data/kitti_tracking_0000)\n", dir.c_str());
+    std::printf(
+        "icanc_kitti_odometry: skipped, no KITTI sequence at %s "
+        "(see ../shared/data/kitti_tracking_0000)\n",
+        dir.c_str());
     return 0;
   }
   try {
@@ -139,22 +148,24 @@ int main(int argc, char** argv) {
       poses.push_back(pose);
     }
     const auto& c = odometry.counters();
-    const Eigen::Vector3d end =
-        poses.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(poses.back().translation());
-    const double yaw = poses.empty() ? 0.0
-                                     : std::atan2(poses.back().linear()(1, 0), poses.back().linear()(0, 0));
+    const Eigen::Vector3d end = poses.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
+                                              : Eigen::Vector3d(poses.back().translation());
+    const double yaw =
+        poses.empty() ? 0.0 : std::atan2(poses.back().linear()(1, 0), poses.back().linear()(0, 0));
     std::printf("icanc_kitti_odometry: %s, profile %s\n", dir.c_str(), profile.c_str());
-    std::printf("frames %llu: registered %llu, degenerate %llu, extrapolated %llu, resets %llu; "
-                "wall ms per frame p50 %.2f p99 %.2f, thread CPU ms p50 %.2f p99 %.2f\n",
-                static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.registered),
-                static_cast<unsigned long long>(c.degenerate),
-                static_cast<unsigned long long>(c.extrapolated),
-                static_cast<unsigned long long>(c.resets), percentile(ms, 0.5), percentile(ms, 0.99),
-                percentile(cpu_ms, 0.5), percentile(cpu_ms, 0.99));
-    std::printf("p50 per stage: downsample %.2f ms, registration %.2f ms, map %.2f ms; p50 "
-                "iterations %.0f, registration points %.0f, map points %.0f\n",
-                percentile(down_ms, 0.5), percentile(reg_ms, 0.5), percentile(map_ms, 0.5),
-                percentile(iterations, 0.5), percentile(reg_points, 0.5), percentile(map_points, 0.5));
+    std::printf(
+        "frames %llu: registered %llu, degenerate %llu, extrapolated %llu, resets %llu; "
+        "wall ms per frame p50 %.2f p99 %.2f, thread CPU ms p50 %.2f p99 %.2f\n",
+        static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.registered),
+        static_cast<unsigned long long>(c.degenerate),
+        static_cast<unsigned long long>(c.extrapolated), static_cast<unsigned long long>(c.resets),
+        percentile(ms, 0.5), percentile(ms, 0.99), percentile(cpu_ms, 0.5),
+        percentile(cpu_ms, 0.99));
+    std::printf(
+        "p50 per stage: downsample %.2f ms, registration %.2f ms, map %.2f ms; p50 "
+        "iterations %.0f, registration points %.0f, map points %.0f\n",
+        percentile(down_ms, 0.5), percentile(reg_ms, 0.5), percentile(map_ms, 0.5),
+        percentile(iterations, 0.5), percentile(reg_points, 0.5), percentile(map_points, 0.5));
     std::printf("trajectory length %.2f m, end (%.2f, %.2f, %.2f) m, final yaw %.1f deg\n", length,
                 end.x(), end.y(), end.z(), yaw * 180.0 / M_PI);
 
@@ -167,7 +178,10 @@ int main(int argc, char** argv) {
     }
     const std::set<int> still = staticTracks(tracks, type, min_common, rigid_m);
     std::vector<double> medians, maxima;
-    if (per_track) std::printf("| track | type | frames | median spread [m] | max spread [m] |\n| --- | --- | --- | --- | --- |\n");
+    if (per_track)
+      std::printf(
+          "| track | type | frames | median spread [m] | max spread [m] |\n| --- | --- | --- | --- "
+          "| --- |\n");
     for (int id : still) {
       std::vector<Eigen::Vector3d> odom;
       for (const auto& fc : tracks[id]) odom.push_back(poses[fc.first] * fc.second);
@@ -186,11 +200,12 @@ int main(int argc, char** argv) {
         std::printf("| %d | %s | %zu | %.2f | %.2f |\n", id, type[id].c_str(), odom.size(),
                     medians.back(), maxima.back());
     }
-    std::printf("static labelled tracks (Car/Van/Truck, judged from the labels): %zu of %zu; centre "
-                "spread in odom: median of the per-track medians %.2f m (target <= 0.3), median of "
-                "the per-track maxima %.2f m, largest %.2f m\n",
-                still.size(), tracks.size(), percentile(medians, 0.5), percentile(maxima, 0.5),
-                maxima.empty() ? 0.0 : *std::max_element(maxima.begin(), maxima.end()));
+    std::printf(
+        "static labelled tracks (Car/Van/Truck, judged from the labels): %zu of %zu; centre "
+        "spread in odom: median of the per-track medians %.2f m (target <= 0.3), median of "
+        "the per-track maxima %.2f m, largest %.2f m\n",
+        still.size(), tracks.size(), percentile(medians, 0.5), percentile(maxima, 0.5),
+        maxima.empty() ? 0.0 : *std::max_element(maxima.begin(), maxima.end()));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icanc_kitti_odometry: %s\n", e.what());
     return 1;

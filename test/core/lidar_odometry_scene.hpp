@@ -17,7 +17,8 @@ namespace lio_scene {
 
 constexpr float kMountZ = 1.8f;  // sensor above base_link (on the road) [m]
 
-inline sim::SceneObject box(float x, float y, float length, float width, float height, float yaw = 0.0f) {
+inline sim::SceneObject box(float x, float y, float length, float width, float height,
+                            float yaw = 0.0f) {
   sim::SceneObject o;
   o.shape = sim::Shape::kBox;
   o.type = "wall";

@@ -46,10 +46,12 @@ TEST(LidarOdometry, RecoversAStraightThenTurningPath) {
     const double t = 0.1 * f;
     const Eigen::Isometry3d truth = truePose(t);
     const Eigen::Isometry3d estimate = odometry.registerFrame(t, scanAt(scene, t, truth, rng));
-    worst_position = std::max(worst_position, (estimate.translation() - truth.translation()).norm());
+    worst_position =
+        std::max(worst_position, (estimate.translation() - truth.translation()).norm());
     worst_yaw = std::max(worst_yaw, std::fabs(yawOf(estimate) - yawOf(truth)));
     if (f > 0) {
-      EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kRegistered) << "frame " << f;
+      EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kRegistered)
+          << "frame " << f;
     }
   }
   // 44 m driven, 1 rad turned. Measured: worst 0.82 m, 0.036 rad (the simulator's exact planes
@@ -107,18 +109,21 @@ TEST(LidarOdometry, TimeGoingBackwardsResets) {
   const sim::Scene scene = street();
   LidarOdometry odometry(testParams());
   std::mt19937_64 rng(10);
-  for (int f = 0; f <= 10; ++f) odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  for (int f = 0; f <= 10; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
   ASSERT_GT(odometry.pose().translation().x(), 1.0);
   const std::size_t map_before = odometry.mapPoints();
   // A bag loop: back to t = 0.
-  const Eigen::Isometry3d pose = odometry.registerFrame(0.0, scanAt(scene, 0.0, truePose(0.0), rng));
+  const Eigen::Isometry3d pose =
+      odometry.registerFrame(0.0, scanAt(scene, 0.0, truePose(0.0), rng));
   EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kReset);
   EXPECT_EQ(odometry.counters().resets, 1u);
   EXPECT_TRUE(pose.isApprox(Eigen::Isometry3d::Identity()));
   EXPECT_EQ(odometry.linearVelocity().norm(), 0.0);
   EXPECT_LT(odometry.mapPoints(), map_before);  // one scan's worth again
   // And it runs on from there.
-  for (int f = 1; f <= 10; ++f) odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  for (int f = 1; f <= 10; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
   EXPECT_NEAR(odometry.pose().translation().x(), truePose(1.0).translation().x(), 0.2);
 
   odometry.reset();  // explicit reset: pose and map forgotten, counters kept
@@ -162,7 +167,8 @@ TEST(LidarOdometry, UnmatchedSceneFallsBackToTheMotionPrior) {
   const sim::Scene scene = street();
   LidarOdometry odometry(testParams());
   std::mt19937_64 rng(12);
-  for (int f = 0; f <= 10; ++f) odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  for (int f = 0; f <= 10; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
   // Every point 20 m up: nothing in the map within reach (a corrupt or foreign cloud).
   std::vector<Eigen::Vector3f> foreign = scanAt(scene, 1.1, truePose(1.1), rng);
   for (auto& p : foreign) p.z() += 20.0f;
@@ -177,7 +183,8 @@ TEST(LidarOdometry, LongGapDropsThePrior) {
   const sim::Scene scene = street();
   LidarOdometry odometry(testParams());
   std::mt19937_64 rng(13);
-  for (int f = 0; f <= 5; ++f) odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  for (int f = 0; f <= 5; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
   // 2 s later, the vehicle stood still meanwhile (same place): with the prior kept the guess would
   // be 16 m ahead; dropped, registration starts from the last pose and finds it.
   odometry.registerFrame(2.5, scanAt(scene, 2.5, truePose(0.5), rng));
@@ -193,18 +200,29 @@ TEST(LidarOdometry, ParametersAreChecked) {
     edit(p);
     return validate(p);
   };
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.voxel_m = 0.0; }).find("voxel_m"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_range_m = 100.0; }).find("min_range_m"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_points_per_voxel = 0; }).find("max_points_per_voxel"),
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.voxel_m = 0.0; }).find("voxel_m"),
             std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_points_per_voxel = kMaxPointsPerVoxel + 1; })
-                .find("max_points_per_voxel"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_iterations = 0; }).find("max_iterations"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.input_stride = 0; }).find("input_stride"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_points = 3; }).find("min_points"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_correspondence_ratio = 1.5; })
-                .find("min_correspondence_ratio"), std::string::npos);
-  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_dt_s = std::nan(""); }).find("max_dt_s"), std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_range_m = 100.0; }).find("min_range_m"),
+            std::string::npos);
+  EXPECT_NE(
+      why([](LidarOdometryParams& p) { p.max_points_per_voxel = 0; }).find("max_points_per_voxel"),
+      std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) {
+              p.max_points_per_voxel = kMaxPointsPerVoxel + 1;
+            }).find("max_points_per_voxel"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_iterations = 0; }).find("max_iterations"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.input_stride = 0; }).find("input_stride"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_points = 3; }).find("min_points"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) {
+              p.min_correspondence_ratio = 1.5;
+            }).find("min_correspondence_ratio"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_dt_s = std::nan(""); }).find("max_dt_s"),
+            std::string::npos);
   LidarOdometryParams bad;
   bad.voxel_m = -1.0;
   EXPECT_THROW(LidarOdometry{bad}, std::invalid_argument);

@@ -1,8 +1,8 @@
 // rostest: the LidarOdometry nodelet in the icanc.launch graph. Simulated clouds (sensor frame
-// test_lidar, 1.8 m above base_link by a static tf this test broadcasts) of a vehicle pulling away and turning in a
-// street are published at 10 Hz; the nodelet's nav_msgs/Odometry and tf odom -> base_link must be
-// stamped with the clouds' stamps and follow the true path; a malformed cloud is skipped without
-// stopping it. With ego_motion/source not "lidar" it stays idle.
+// test_lidar, 1.8 m above base_link by a static tf this test broadcasts) of a vehicle pulling away
+// and turning in a street are published at 10 Hz; the nodelet's nav_msgs/Odometry and tf odom ->
+// base_link must be stamped with the clouds' stamps and follow the true path; a malformed cloud is
+// skipped without stopping it. With ego_motion/source not "lidar" it stays idle.
 #include <mutex>
 #include <random>
 #include <vector>
@@ -37,7 +37,8 @@ double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose
 
 bool waitForSubscriber(const ros::Publisher& pub, double seconds) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (pub.getNumSubscribers() == 0 && ros::WallTime::now() < end) ros::WallDuration(0.05).sleep();
+  while (pub.getNumSubscribers() == 0 && ros::WallTime::now() < end)
+    ros::WallDuration(0.05).sleep();
   return pub.getNumSubscribers() > 0;
 }
 
@@ -104,7 +105,8 @@ TEST(LidarOdometryNodelet, PublishesTfAndOdometryAlongTheTruePath) {
   EXPECT_NEAR(last->twist.twist.linear.x, 8.0, 0.8);  // straight again at 8 m/s
   // The tf at the last stamp is the odometry's pose.
   geometry_msgs::TransformStamped tf;
-  ASSERT_NO_THROW(tf = buffer.lookupTransform("odom", "base_link", last->header.stamp, ros::Duration(2.0)));
+  ASSERT_NO_THROW(
+      tf = buffer.lookupTransform("odom", "base_link", last->header.stamp, ros::Duration(2.0)));
   EXPECT_NEAR(tf.transform.translation.x, last->pose.pose.position.x, 1e-6);
   EXPECT_NEAR(tf.transform.translation.y, last->pose.pose.position.y, 1e-6);
   EXPECT_NEAR(tf.transform.rotation.z, last->pose.pose.orientation.z, 1e-6);

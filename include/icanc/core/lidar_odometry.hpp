@@ -30,19 +30,19 @@
 namespace icanc {
 
 struct LidarOdometryParams {
-  double voxel_m = 1.0;                   // local map voxel [m]
-  int input_stride = 1;                   // every n-th input point is read (scan order: 2
-                                          // thins azimuth steps, not rings; saves pass 1 time)
-  double max_range_m = 60.0;              // points beyond, and map voxels beyond, are dropped [m]
-  double min_range_m = 3.0;               // points nearer (the vehicle itself) are dropped [m]
-  int max_points_per_voxel = 4;           // map points per voxel (1 .. kMaxPointsPerVoxel)
-  int max_iterations = 10;                // Gauss-Newton iterations per frame
-  double convergence_eps = 1e-3;          // stop when the step's norm (m, rad) is below this
-  double initial_threshold_m = 2.0;       // adaptive threshold before any deviation is known [m]
-  double min_motion_m = 0.1;              // deviations below this do not feed the threshold [m]
-  double map_voxel_factor = 0.5;          // map input: one point per voxel_m * this
-  double registration_voxel_factor = 1.5; // registered: one point per voxel_m * this ...
-  int max_registration_points = 600;      // ... at most this many (evenly thinned)
+  double voxel_m = 1.0;                    // local map voxel [m]
+  int input_stride = 1;                    // every n-th input point is read (scan order: 2
+                                           // thins azimuth steps, not rings; saves pass 1 time)
+  double max_range_m = 60.0;               // points beyond, and map voxels beyond, are dropped [m]
+  double min_range_m = 3.0;                // points nearer (the vehicle itself) are dropped [m]
+  int max_points_per_voxel = 4;            // map points per voxel (1 .. kMaxPointsPerVoxel)
+  int max_iterations = 10;                 // Gauss-Newton iterations per frame
+  double convergence_eps = 1e-3;           // stop when the step's norm (m, rad) is below this
+  double initial_threshold_m = 2.0;        // adaptive threshold before any deviation is known [m]
+  double min_motion_m = 0.1;               // deviations below this do not feed the threshold [m]
+  double map_voxel_factor = 0.5;           // map input: one point per voxel_m * this
+  double registration_voxel_factor = 1.5;  // registered: one point per voxel_m * this ...
+  int max_registration_points = 600;       // ... at most this many (evenly thinned)
   // Flat road gives point-to-point ICP nothing horizontal, and its rings (fixed ranges on a flat
   // road) travel with the vehicle: left to dominate the registered points, it holds the estimate
   // at "not moving". Points below ground_max_z_m (base frame) make at most ground_share of the
@@ -85,11 +85,11 @@ void visitParams(Reader& r, LidarOdometryParams& p) {
 
 struct LidarOdometryStats {
   enum class Result {
-    kFirstFrame,       // map started, pose unchanged
-    kRegistered,       // ICP result
-    kDegenerate,       // registration rejected: pose from the motion prior
-    kExtrapolated,     // too few points (empty / tiny cloud): pose from the motion prior
-    kReset,            // stamp went backwards: everything restarted at this frame
+    kFirstFrame,    // map started, pose unchanged
+    kRegistered,    // ICP result
+    kDegenerate,    // registration rejected: pose from the motion prior
+    kExtrapolated,  // too few points (empty / tiny cloud): pose from the motion prior
+    kReset,         // stamp went backwards: everything restarted at this frame
   };
   Result result = Result::kFirstFrame;
   std::size_t input_points = 0;         // points offered (incl. NaN / out of range)
@@ -98,7 +98,7 @@ struct LidarOdometryStats {
   std::size_t correspondences = 0;      // matched in the last iteration
   std::size_t map_points = 0;
   int iterations = 0;
-  double threshold_m = 0.0;             // adaptive sigma used this frame
+  double threshold_m = 0.0;  // adaptive sigma used this frame
   double downsample_ms = 0.0, register_ms = 0.0, map_ms = 0.0;
   double totalMs() const { return downsample_ms + register_ms + map_ms; }
 };
@@ -107,7 +107,7 @@ const char* toString(LidarOdometryStats::Result result);
 
 struct LidarOdometryCounters {
   std::uint64_t frames = 0, registered = 0, degenerate = 0, extrapolated = 0, resets = 0;
-  std::uint64_t gaps = 0;             // dt above max_dt_s: prior dropped
+  std::uint64_t gaps = 0;  // dt above max_dt_s: prior dropped
   std::uint64_t nonfinite_points = 0;
 };
 
@@ -195,8 +195,8 @@ class LidarOdometry {
   }
   static std::uint64_t packKey(std::int32_t i, std::int32_t j, std::int32_t k) {
     const std::uint64_t m = (1u << 21) - 1;
-    return ((static_cast<std::uint64_t>(i) & m) << 42) | ((static_cast<std::uint64_t>(j) & m) << 21) |
-           (static_cast<std::uint64_t>(k) & m);
+    return ((static_cast<std::uint64_t>(i) & m) << 42) |
+           ((static_cast<std::uint64_t>(j) & m) << 21) | (static_cast<std::uint64_t>(k) & m);
   }
 
   Eigen::Isometry3d predict(double dt) const;
@@ -218,8 +218,8 @@ class LidarOdometry {
   VoxelIndex frame_set_, registration_set_;
   std::vector<Eigen::Vector3f> frame_;         // map-resolution points, base frame
   std::vector<Eigen::Vector3f> registration_;  // registration points, base frame
-  std::vector<Eigen::Vector3f> candidates_;   // registration candidates above it
-  std::vector<Eigen::Vector3f> ground_;       // registration candidates below ground_max_z_m
+  std::vector<Eigen::Vector3f> candidates_;    // registration candidates above it
+  std::vector<Eigen::Vector3f> ground_;        // registration candidates below ground_max_z_m
   // Per registration point: the 2 x 2 x 2 voxel block last searched and its voxel ids, reused
   // across iterations while the point stays in the same block.
   struct Neighbourhood {
