@@ -81,6 +81,7 @@ Profile loadProfile(const std::string& path) {
   p.corridor.horizon_s = p.danger.reaction_time_s;
   readSection(root, path, "ground_truth", p.corridor);
   readSection(root, path, "illumination_monitor", p.illumination);
+  readSection(root, path, "lidar_odometry", p.lidar_odometry);
   return p;
 }
 

@@ -1,6 +1,7 @@
 // icanc_bench: the classic (paper's PCL chain) and the fast obstacle detector side by side, in one
 // process and one run, on the same frames: per-stage and total p50/p99, points per second, the
-// ratio classic/fast, and detection quality on the labelled KITTI objects (kitti_score.hpp).
+// ratio classic/fast, and detection quality on the labelled KITTI objects (kitti_score.hpp); the
+// LiDAR odometry (profile's lidar_odometry section) alone and after the fast detector.
 // Then scaling with points (simulated 16/32/64/128-channel scans) and with objects (the tracker
 // alone with 10/100/200/500 objects). Timing is steady_clock around each stage, single thread.
 //
@@ -21,6 +22,7 @@
 #include "icanc/core/cloud_decode.hpp"
 #include "icanc/core/kitti.hpp"
 #include "icanc/core/kitti_score.hpp"
+#include "icanc/core/lidar_odometry.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 #include "icanc/core/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
@@ -95,7 +97,8 @@ void printScore(const char* name, const icanc::kitti::DetectionScore& s) {
 }
 
 bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_params,
-              const ObstacleDetectorParams& fast_params, int max_frames) {
+              const ObstacleDetectorParams& fast_params,
+              const icanc::LidarOdometryParams& odometry_params, int max_frames) {
   if (!std::ifstream(dir + "/calib/0000.txt").good()) {
     std::printf("KITTI: skipped, no sequence at %s (see ../shared/data/kitti_tracking_0000)\n\n",
                 dir.c_str());
@@ -108,7 +111,11 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
 
   ObstacleDetector classic(classic_params), fast(fast_params);
   ObstacleDetector decode_then_fast(fast_params), fused(fast_params);
-  std::vector<double> decode_then_ms, fused_ms;
+  std::vector<double> decode_then_ms, fused_ms, odometry_ms, fast_odometry_ms;
+  // LiDAR odometry (issue 19) as its nodelet runs it, reading the same PointCloud2 buffer: alone,
+  // and the fast detector then the odometry on each frame (one core serving both nodelets).
+  icanc::LidarOdometry odometry(odometry_params), odometry_after_fast(odometry_params);
+  ObstacleDetector fast_before_odometry(fast_params);
   Series cs, fs;
   icanc::kitti::DetectionScore cscore, fscore;
   Cloud cloud, decoded;
@@ -142,6 +149,16 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     if (icanc::planDecode(raw, 10000000, plan) == icanc::DecodeError::kNone)
       fused.processFrom(0.1 * f, [&](auto&& sink) { icanc::forEachXYZ(raw, plan, identity, sink); });
     fused_ms.push_back(icanc::fastNowMs() - t0);
+    if (plan.width > 0) {
+      const auto source = [&](auto&& sink) { icanc::forEachXYZ(raw, plan, identity, sink); };
+      t0 = icanc::fastNowMs();
+      odometry.registerFrom(0.1 * f, source);
+      odometry_ms.push_back(icanc::fastNowMs() - t0);
+      t0 = icanc::fastNowMs();
+      fast_before_odometry.processFrom(0.1 * f, source);
+      odometry_after_fast.registerFrom(0.1 * f, source);
+      fast_odometry_ms.push_back(icanc::fastNowMs() - t0);
+    }
     cscore.add(icanc::kitti::scoreFrame(by_frame[f], cloud, classic.detections()));
     fscore.add(icanc::kitti::scoreFrame(by_frame[f], cloud, fast.detections()));
     ++frames;
@@ -153,6 +170,10 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
               "detect p50 %.2f p99 %.2f ms; fused decode p50 %.2f p99 %.2f ms\n",
               percentile(decode_then_ms, 0.5), percentile(decode_then_ms, 0.99),
               percentile(fused_ms, 0.5), percentile(fused_ms, 0.99));
+  std::printf("LiDAR odometry (lidar_odometry section, from the PointCloud2 buffer): p50 %.2f p99 "
+              "%.2f ms; fast detector with tracking + LiDAR odometry: p50 %.2f p99 %.2f ms\n",
+              percentile(odometry_ms, 0.5), percentile(odometry_ms, 0.99),
+              percentile(fast_odometry_ms, 0.5), percentile(fast_odometry_ms, 0.99));
   printScore("classic", cscore);
   printScore("fast", fscore);
   std::printf("\n");
@@ -291,7 +312,7 @@ int main(int argc, char** argv) {
     ObstacleDetectorParams fast = loaded.detector;
     fast.method = icanc::DetectorMethod::kFast;
     std::printf("icanc_bench: profile %s, one thread\n\n", profile.c_str());
-    runKitti(dir, classic, fast, frames);
+    runKitti(dir, classic, fast, loaded.lidar_odometry, frames);
     runSimulated(classic, fast, smoke ? 3 : 30);
     runTracking(loaded.detector.tracker, smoke ? 5 : 100);
   } catch (const std::exception& e) {

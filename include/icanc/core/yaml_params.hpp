@@ -6,6 +6,7 @@
 #include "icanc/core/danger.hpp"
 #include "icanc/core/ground_truth.hpp"
 #include "icanc/core/illumination.hpp"
+#include "icanc/core/lidar_odometry.hpp"
 #include "icanc/core/light_controller.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 
@@ -18,10 +19,12 @@ struct Profile {
   // The ground_truth section, with half_width_m and horizon_s from the danger section.
   CorridorParams corridor;
   IlluminationParams illumination;  // illumination_monitor section (camera)
+  LidarOdometryParams lidar_odometry;  // lidar_odometry section (issue 19)
 };
 
-// Loads the obstacle_detector, danger_detector, light_controller, ground_truth and illumination_monitor sections of a profile and
-// validates them; throws std::runtime_error naming the file and the key or problem.
+// Loads the obstacle_detector, danger_detector, light_controller, ground_truth, illumination_monitor
+// and lidar_odometry sections of a profile and validates them; throws std::runtime_error naming
+// the file and the key or problem.
 Profile loadProfile(const std::string& path);
 
 }  // namespace icanc
