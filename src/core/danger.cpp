@@ -53,6 +53,8 @@ std::string validate(const DangerParams& params) {
     why << "danger.velocity_std_k must be >= 0 (got " << params.velocity_std_k << ")";
   else if (!(params.uncertainty_cap_m >= 0.0))
     why << "danger.uncertainty_cap_m must be >= 0 (got " << params.uncertainty_cap_m << ")";
+  else if (!(params.static_prior_k >= 0.0 && params.static_prior_k <= 10.0))
+    why << "danger.static_prior_k must be in [0, 10] (got " << params.static_prior_k << ")";
   else if (!(params.footprint_margin_m >= 0.0))
     why << "danger.footprint_margin_m must be >= 0 (got " << params.footprint_margin_m << ")";
   else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
@@ -108,9 +110,12 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   // vehicle-fixed point where it is (relativeVelocity's inverse, planar).
   const Eigen::Vector2d ego_v = object.ego_velocity;
   const double ego_w = object.ego_yaw_rate;
-  const Eigen::Vector2d ground_v =
-      object.velocity.head<2>() + ego_v +
-      ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  Eigen::Vector2d ground_v = object.velocity.head<2>() + ego_v +
+                             ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  // The static-world prior: each axis shrunk toward zero by k sigma (soft threshold).
+  const Eigen::Vector2d shrink = params.static_prior_k * Eigen::Vector2d(sigma_x, sigma_y);
+  for (int axis = 0; axis < 2; ++axis)
+    ground_v[axis] = std::copysign(std::max(0.0, std::abs(ground_v[axis]) - shrink[axis]), ground_v[axis]);
   const bool turning = ego_w != 0.0;
   const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
   for (int i = 0; i <= steps; ++i) {

@@ -8,9 +8,11 @@ namespace sim {
 
 std::vector<TruthBox> truthBoxes(const Scenario& scenario, double t) {
   const Eigen::Isometry3f world_to_vehicle = scenario.vehiclePose(t).inverse();
-  // Translational relative velocity: the world velocities' difference in the vehicle's axes at t
-  // (a turning vehicle's frame also rotates; that term, -yaw_rate x r, is not part of it).
+  // Velocity relative to the vehicle, as its LiDAR sees it: the world velocities' difference in the
+  // vehicle's axes at t, minus yaw_rate x r (the frame turns with the vehicle), as icanc/Obstacle's
+  // velocity (relativeVelocity).
   const Eigen::Vector3f ego_velocity = world_to_vehicle.linear() * scenario.vehicleVelocity(t);
+  const float yaw_rate = scenario.vehicleTwist(t).yaw_rate;
   std::vector<TruthBox> boxes;
   boxes.reserve(scenario.scene.objects.size());
   for (const ObjectTruth& truth : objectTruths(scenario.scene, t, world_to_vehicle)) {
@@ -21,7 +23,8 @@ std::vector<TruthBox> truthBoxes(const Scenario& scenario, double t) {
     b.center = truth.center.cast<double>();
     b.size = truth.size.cast<double>();
     b.yaw = truth.yaw;
-    b.velocity = (truth.velocity - ego_velocity).cast<double>();
+    const Eigen::Vector3f frame_velocity(-yaw_rate * truth.center.y(), yaw_rate * truth.center.x(), 0.0f);
+    b.velocity = (truth.velocity - ego_velocity - frame_velocity).cast<double>();
     boxes.push_back(std::move(b));
   }
   return boxes;

@@ -251,13 +251,14 @@ TEST(ScenarioTruth, TurningVehicleIsJudgedAlongItsPath) {
   }
   // Boxes at t are in the vehicle frame at t: after a quarter circle (5 s: heading +y, at (R, R))
   // the straight-ahead post is behind-left and the posts' velocity is minus the vehicle's, in its
-  // own axes.
+  // own axes, minus yaw rate x r (the frame turns).
   const std::vector<TruthBox> quarter = truthBoxes(s, 5.0);
   EXPECT_NEAR(quarter[1].center.x(), -r, 1e-3);
   EXPECT_NEAR(quarter[1].center.y(), -(25.0 - r), 1e-3);
   EXPECT_NEAR(quarter[1].yaw, -M_PI / 2.0, 1e-5);
-  EXPECT_NEAR(quarter[1].velocity.x(), -10.0, 1e-4);
-  EXPECT_NEAR(quarter[1].velocity.y(), 0.0, 1e-4);
+  const double w = M_PI / 10.0;
+  EXPECT_NEAR(quarter[1].velocity.x(), -10.0 + w * quarter[1].center.y(), 1e-3);
+  EXPECT_NEAR(quarter[1].velocity.y(), -w * quarter[1].center.x(), 1e-3);
 }
 
 TEST(ScenarioTruth, ProfileResolvesBesideTheScenarioDirectory) {

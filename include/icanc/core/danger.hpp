@@ -48,6 +48,12 @@ struct DangerParams {
   // The LiDAR sees less of an object than it is (its far side, the edges between beams, a voxel
   // grid's centroids inside the surface): the footprint grows by this much on every side [m].
   double footprint_margin_m = 0.0;
+  // The world mostly stands still: the object's velocity over ground (relative velocity + the
+  // vehicle's at the object) is shrunk toward zero by static_prior_k * sigma per axis before it is
+  // extrapolated, so a young track of a parked car or a fragment, whose velocity is still mostly
+  // noise, does not fly across the corridor on it; a settled track (sigma 0.04 m/s) keeps its
+  // velocity. Meaningful with ego motion (velocities over ground); 0 = off.
+  double static_prior_k = 0.0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
   // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
