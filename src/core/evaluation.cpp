@@ -125,7 +125,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   LightControllerParams lamp;
   lamp.tau_s = params.lamp_tau_s;
   lamp.recheck_below_s = params.lamp_recheck_below_s;
-  lamp.stale_timeout_s = 0.0;  // frames are given, not awaited
+  lamp.watchdog_enabled = false;  // frames are given, not awaited
   LightController truth_lamp(lamp);
   std::size_t truth_on_frames = 0;
   DangerHysteresis perfect_hysteresis(params.danger);
