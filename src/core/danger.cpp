@@ -35,10 +35,10 @@ DangerModel parseDangerModel(const std::string& name) {
 
 std::string validate(const DangerParams& params) {
   std::ostringstream why;
-  if (!(params.half_width_m > 0.0))
-    why << "danger.half_width_m must be > 0 (got " << params.half_width_m << ")";
-  else if (!(params.reaction_time_s > 0.0))
-    why << "danger.reaction_time_s must be > 0 (got " << params.reaction_time_s << ")";
+  if (!(params.half_width_m > 0.0 && params.half_width_m <= 10.0))
+    why << "danger.half_width_m must be in (0, 10] m (got " << params.half_width_m << ")";
+  else if (!(params.reaction_time_s > 0.0 && params.reaction_time_s <= 30.0))
+    why << "danger.reaction_time_s must be in (0, 30] s (got " << params.reaction_time_s << ")";
   else if (!(params.heading_window_deg > 0.0 && params.heading_window_deg <= 180.0))
     why << "danger.heading_window_deg must be in (0, 180] (got " << params.heading_window_deg << ")";
   else if (params.model != DangerModel::kPaper && params.model != DangerModel::kPredictive)

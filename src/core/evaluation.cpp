@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "icanc/core/hungarian.hpp"
@@ -127,7 +128,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   LightControllerParams lamp;
   lamp.tau_s = params.lamp_tau_s;
   lamp.recheck_below_s = params.lamp_recheck_below_s;
-  lamp.stale_timeout_s = 0.0;  // frames are given, not awaited
+  lamp.watchdog_enabled = false;  // frames are given, not awaited
   LightController truth_lamp(lamp);
   std::size_t truth_on_frames = 0;
   DangerHysteresis perfect_hysteresis(params.danger);
@@ -167,6 +168,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     for (const DetectedObject& d : f.detections)
       if (inScope(d.center, params)) dets.push_back(d);
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
+    std::set<std::uint32_t> flagged_ids;  // true objects flagged (match or fragment) this frame
     for (const TruthObject& o : truth) {
       const DangerAssessment a = assessDanger(perfectTrack(o, f), params.danger);
       const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
@@ -244,6 +246,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       // Danger per object-frame: its detection or one of its fragments flagged.
       const bool by_match = found && dets[m[i]].dangerous;
       const bool predicted = by_match || flagged_by[i] >= 0;
+      if (predicted) flagged_ids.insert(o.id);
       const Outcome outcome = outcomeOf(o.dangerous, predicted);
       count(r.danger, outcome);
       if (rows) {
@@ -287,7 +290,9 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         e.entry_t = f.t + std::max(0.0, o.time_to_corridor);
       }
       if (!o.dangerous) close_episode(e);
-      if (e.open && f.lamp_on && e.first_on < 0.0) e.first_on = f.t;
+      // Caught: the lamp on because of this object (its detection or a fragment flagged), not the
+      // lamp on for any reason (another object, the watchdog) while it happened to be dangerous.
+      if (e.open && f.lamp_on && flagged_ids.count(o.id) && e.first_on < 0.0) e.first_on = f.t;
     }
     for (auto& kv : episodes) {  // ids absent from this frame end their episode
       bool present = false;

@@ -7,14 +7,14 @@ namespace icanc {
 
 std::string validate(const LightControllerParams& params) {
   std::ostringstream why;
-  if (!(params.tau_s > 0.0))
-    why << "light.tau_s must be > 0 (got " << params.tau_s << ")";
+  if (!(params.tau_s > 0.0 && params.tau_s <= 60.0))
+    why << "light.tau_s must be in (0, 60] s (got " << params.tau_s << ")";
   else if (!(params.recheck_below_s >= 0.0 && params.recheck_below_s <= params.tau_s))
     why << "light.recheck_below_s must be in [0, tau_s = " << params.tau_s << "] (got "
         << params.recheck_below_s << ")";
-  else if (!(params.stale_timeout_s >= 0.0))
-    why << "light.stale_timeout_s must be >= 0, 0 disables the watchdog (got "
-        << params.stale_timeout_s << ")";
+  else if (!(params.stale_timeout_s > 0.0 && params.stale_timeout_s <= kMaxStaleTimeoutS))
+    why << "light.stale_timeout_s must be in (0, " << kMaxStaleTimeoutS << "] s; to run without "
+        << "the watchdog set watchdog_enabled: false (got " << params.stale_timeout_s << ")";
   else if (!(params.illumination_stale_timeout_s > 0.0))
     why << "light.illumination/stale_timeout_s must be > 0 (got "
         << params.illumination_stale_timeout_s << ")";
@@ -27,6 +27,8 @@ const char* toString(LightReason reason) {
     case LightReason::kDanger: return "danger";
     case LightReason::kSensorStale: return "sensor stale";
     case LightReason::kDaylight: return "daylight";
+    case LightReason::kSensorBlind: return "sensor blind";
+    case LightReason::kFault: return "fault";
   }
   return "unknown";
 }
@@ -37,6 +39,7 @@ void LightController::reset() {
   timer_running_ = false;
   has_input_ = false;
   stale_ = true;
+  blind_ = false;
   illumination_ = Illumination::kUnknown;
   daylight_ = false;
 }
@@ -56,7 +59,7 @@ bool LightController::tick(double now) {
 
   if (timer_running_ && now >= timer_end_s_ - 1e-9) timer_running_ = false;
   // 1 ns of slack: stamps in seconds as doubles (1.3 - 1.0 > 0.3).
-  stale_ = !has_input_ || (params_.stale_timeout_s > 0.0 &&
+  stale_ = !has_input_ || (params_.watchdog_enabled &&
                            now - last_input_s_ > params_.stale_timeout_s + 1e-9);
   updateDaylight(now);
   return was_on != on() || was_reason != reason();
@@ -72,11 +75,12 @@ bool LightController::onIllumination(double now, Illumination state) {
   return was_on != on() || was_reason != reason();
 }
 
-bool LightController::onInput(double now, bool any_danger) {
+bool LightController::onInput(double now, bool any_danger, bool sensor_blind) {
   tick(now);
   has_input_ = true;
   last_input_s_ = now;
   stale_ = false;
+  blind_ = sensor_blind;
   if (!any_danger || daylight_) return false;
   if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + 1e-9) return false;  // ignored
   timer_running_ = true;
@@ -87,6 +91,7 @@ bool LightController::onInput(double now, bool any_danger) {
 
 LightReason LightController::reason() const {
   if (stale_) return LightReason::kSensorStale;
+  if (blind_) return LightReason::kSensorBlind;
   if (daylight_) return LightReason::kDaylight;
   if (timer_running_) return LightReason::kDanger;
   return LightReason::kOff;

@@ -42,7 +42,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
       why = "tick_rate_hz must be >= publish_rate_hz";
     reader.read("marker_lifetime_s", marker_style_.lifetime_s);
     acceptReconfigureKeys<LightControllerConfig>(reader);
-    if (!checkParams(getName(), reader, why)) return;
+    if (!checkParams(getName(), reader, why)) {
+      startFault(reader.error().empty() ? why : reader.error());
+      return;
+    }
     controller_.reset(new LightController(params));
 
     // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
@@ -63,6 +66,41 @@ class LightControllerNodelet : public nodelet::Nodelet {
     }
     NODELET_INFO("LightController: tau %.2f s, recheck below %.2f s, watchdog %.2f s",
                  params.tau_s, params.recheck_below_s, params.stale_timeout_s);
+    if (!params.watchdog_enabled)
+      NODELET_WARN("LightController: watchdog_enabled is false: no fail-safe lamp when the input "
+                   "stops (offline use only)");
+  }
+
+  // Invalid parameters: no state machine, but the lamp side still hears from the controller.
+  // Lamp ON (REASON_FAULT) at publish_rate_hz and an ERROR in diagnostics naming the problem,
+  // so a typo in a profile is a lit lamp and a message, not a silent graph.
+  void startFault(const std::string& why) {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    fault_ = why;
+    diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight"));
+    diagnostics_->updater().add("light controller", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "cannot start, lamp on (fail-safe): invalid parameters: " + fault_);
+      stat.add("lamp on", true);
+      stat.add("reason", toString(LightReason::kFault));
+      stat.add("invalid parameters", fault_);
+    });
+    state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
+    lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
+    const double rate_hz = publish_rate_hz_ > 0.0 && publish_rate_hz_ < 1e3 ? publish_rate_hz_ : 10.0;
+    timer_ = nh.createTimer(ros::Duration(1.0 / rate_hz), [this](const ros::TimerEvent&) {
+      auto state = boost::make_shared<LightState>();
+      state->header.stamp = ros::Time::now();
+      state->on = true;
+      state->reason = static_cast<std::uint8_t>(LightReason::kFault);
+      state->reason_text = toString(LightReason::kFault);
+      auto lamp = boost::make_shared<std_msgs::Bool>();
+      lamp->data = true;
+      state_pub_.publish(LightState::ConstPtr(state));
+      lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
+    });
+    NODELET_ERROR("LightController cannot start (%s): publishing lamp ON (reason fault)", why.c_str());
   }
 
   void onDanger(const ObstacleArray::ConstPtr& msg) {
@@ -75,7 +113,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
     if (!msg->header.frame_id.empty()) marker_frame_ = msg->header.frame_id;
     input_stamp_ = msg->header.stamp;
     input_receive_time_ = msg->cloud_receive_time;
-    if (controller_->onInput(now.toSec(), msg->num_dangerous > 0)) {
+    if (msg->sensor_blind) ++blind_inputs_;
+    if (controller_->onInput(now.toSec(), msg->num_dangerous > 0, msg->sensor_blind)) {
       ++triggers_;
       trigger_cloud_stamp_ = msg->header.stamp;
       trigger_receive_time_ = msg->cloud_receive_time;
@@ -149,6 +188,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
     const LightReason reason = controller_->reason();
     if (reason == LightReason::kSensorStale)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "lamp on: sensor stale (fail-safe)");
+    else if (reason == LightReason::kSensorBlind)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "lamp on: sensor blind (fail-safe)");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, std::string("lamp ") +
                    (controller_->on() ? "on: " : "off: ") + toString(reason));
@@ -158,6 +199,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
     stat.add("timer starts/resets", triggers_);
     stat.add("lamp transitions", transitions_);
     stat.add("sensor stale events", stale_events_);
+    stat.add("sensor blind inputs", blind_inputs_);
+    stat.add("watchdog enabled", controller_->params().watchdog_enabled);
+    if (!controller_->params().watchdog_enabled)
+      stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "watchdog disabled (watchdog_enabled: false)");
     if (controller_->params().illumination_enabled) {
       stat.add("illumination", toString(illumination_));
       stat.add("invalid illumination messages", bad_illumination_);
@@ -188,7 +233,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
   ros::Time trigger_receive_time_;
   ros::Time input_stamp_, input_receive_time_;
   std::uint32_t trigger_dangerous_ = 0;
-  std::uint64_t inputs_ = 0, triggers_ = 0, transitions_ = 0, stale_events_ = 0;
+  std::uint64_t inputs_ = 0, triggers_ = 0, transitions_ = 0, stale_events_ = 0, blind_inputs_ = 0;
+  std::string fault_;  // why the controller could not start ("" when it runs)
   Illumination illumination_ = Illumination::kUnknown;
   std::uint64_t bad_illumination_ = 0;
 };

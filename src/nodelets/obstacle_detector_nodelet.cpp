@@ -17,6 +17,7 @@
 #include "icanc/core/cloud_decode.hpp"
 #include "icanc/core/ego_motion.hpp"
 #include "icanc/core/obstacle_detector.hpp"
+#include "icanc/ros/cloud_input_checks.hpp"
 #include "icanc/ros/conversions.hpp"
 #include "icanc/ros/ego_pose_source.hpp"
 #include "icanc/ros/live_params.hpp"
@@ -41,6 +42,9 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     std::string why = validate(params);
     if (why.empty() && max_points_ <= 0) why = "max_points must be > 0";
     if (why.empty()) why = rate_problem;
+    checks_ = CloudInputChecks(getName());
+    const std::string checks_problem = checks_.load(reader);  // stamp_check/*, sensor_health/*
+    if (why.empty()) why = checks_problem;
     acceptReconfigureKeys<ObstacleDetectorConfig>(reader);
     if (!checkParams(getName(), reader, why)) return;
     // The vehicle's own motion: the namespace's ego_motion section, shared with LidarOdometry.
@@ -132,15 +136,10 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
       return;  // not valid input: the light controller's watchdog sees the gap
     }
 
-    // A stamp equal to the previous frame's (duplicate message, stuck driver clock): processed
-    // with dt = 0 (the Kalman prediction is the identity), warned about and counted.
-    if (has_last_stamp_ && msg->header.stamp == last_stamp_) {
-      ++repeated_stamps_;
-      NODELET_WARN_THROTTLE(1.0, "cloud stamp %.6f repeats the previous frame's (duplicate or stuck "
-                            "clock?): processed with dt = 0", msg->header.stamp.toSec());
-    }
-    has_last_stamp_ = true;
-    last_stamp_ = msg->header.stamp;
+    // Zero, repeated, backwards or jumping stamps are no valid input (dt = 0 hides every speed);
+    // a blind sensor (too few valid returns) is flagged in the output: both light the lamp.
+    if (!checks_.stampValid(msg->header.stamp, *input_)) return;
+    const std::size_t valid_points = checks_.checkHealth(raw, plan);
 
     if (!last_frame_.empty() && frame != last_frame_) {
       ++frame_changes_;
@@ -180,6 +179,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     out->ego_motion_source = toString(ego_.params().source);
     out->ego_motion_status = toString(ego.status);
     out->ego_twist = toTwistMsg(ego);
+    out->sensor_blind = checks_.blind();
+    out->valid_points = static_cast<std::uint32_t>(valid_points);
     for (const Track& track : detector_->tracks()) {
       if (!track.confirmed) continue;
       out->obstacles.emplace_back();
@@ -272,7 +273,6 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("tracker resets: time backwards", time_resets_);
     stat.add("tracker resets: gap", gap_resets_);
     stat.add("output frame changes", frame_changes_);
-    stat.add("repeated stamps", repeated_stamps_);
     stat.add("obstacles (last frame)", last_obstacles_);
     stat.add("processing ms (last frame)", last_processing_ms_);
     stat.add("prep ms", last_times_.prep_ms);
@@ -280,6 +280,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("cluster ms", last_times_.cluster_ms);
     stat.add("track ms", last_times_.track_ms);
     live_->addTo(stat);
+    checks_.addTo(stat);
   }
 
   std::unique_ptr<ObstacleDetector> detector_;
@@ -307,9 +308,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::string last_frame_;
   std::map<DecodeError, std::uint64_t> invalid_;
   std::uint64_t received_ = 0, published_ = 0, dropped_points_ = 0, tf_failures_ = 0;
-  std::uint64_t time_resets_ = 0, gap_resets_ = 0, frame_changes_ = 0, repeated_stamps_ = 0;
-  bool has_last_stamp_ = false;
-  ros::Time last_stamp_;
+  std::uint64_t time_resets_ = 0, gap_resets_ = 0, frame_changes_ = 0;
+  CloudInputChecks checks_;
   std::uint64_t reported_invalid_ = 0, reported_tf_failures_ = 0;
   std::size_t last_obstacles_ = 0;
   double last_processing_ms_ = 0.0;

@@ -6,6 +6,70 @@
 
 namespace icanc {
 
+namespace {
+
+const char* typeName(const XmlRpc::XmlRpcValue& v) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return "a boolean";
+    case XmlRpc::XmlRpcValue::TypeInt: return "an integer";
+    case XmlRpc::XmlRpcValue::TypeDouble: return "a floating-point number";
+    case XmlRpc::XmlRpcValue::TypeString: return "a string";
+    case XmlRpc::XmlRpcValue::TypeArray: return "a list";
+    case XmlRpc::XmlRpcValue::TypeStruct: return "a dictionary";
+    default: return "of another type";
+  }
+}
+
+}  // namespace
+
+bool ParamReader::fetch(const std::string& key, XmlRpc::XmlRpcValue& value) {
+  keys_.insert(key);
+  return nh_.getParam(key, value);
+}
+
+void ParamReader::addError(const std::string& key, const std::string& why) {
+  errors_.push_back(nh_.resolveName(key) + " " + why);
+  error_ = error_.empty() ? errors_.back() : error_ + "; " + errors_.back();
+}
+
+void ParamReader::read(const std::string& key, double& value) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(key, v)) return;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble)
+    value = static_cast<double>(v);
+  else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
+    value = static_cast<int>(v);
+  else
+    addError(key, std::string("must be a number (got ") + typeName(v) + "): refused");
+}
+
+void ParamReader::read(const std::string& key, int& value) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(key, v)) return;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
+    value = static_cast<int>(v);
+  else
+    addError(key, std::string("must be an integer (got ") + typeName(v) + "): refused");
+}
+
+void ParamReader::read(const std::string& key, bool& value) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(key, v)) return;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeBoolean)
+    value = static_cast<bool>(v);
+  else
+    addError(key, std::string("must be true or false (got ") + typeName(v) + "): refused");
+}
+
+void ParamReader::read(const std::string& key, std::string& value) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(key, v)) return;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString)
+    value = static_cast<std::string>(v);
+  else
+    addError(key, std::string("must be a string (got ") + typeName(v) + "): refused");
+}
+
 void ParamReader::read(const std::string& key, float& value) {
   double v = value;
   read(key, v);
@@ -13,16 +77,27 @@ void ParamReader::read(const std::string& key, float& value) {
 }
 
 void ParamReader::read(const std::string& key, Eigen::Vector3f& value) {
-  keys_.insert(key);
-  std::vector<double> list;
-  if (!nh_.getParam(key, list)) return;
-  if (list.size() != 3) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(key, v)) return;
+  bool numbers = v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() == 3;
+  for (int i = 0; numbers && i < 3; ++i)
+    numbers = v[i].getType() == XmlRpc::XmlRpcValue::TypeDouble ||
+              v[i].getType() == XmlRpc::XmlRpcValue::TypeInt;
+  if (!numbers) {
     std::ostringstream why;
-    why << nh_.resolveName(key) << " must be a list of 3 numbers (got " << list.size() << ")";
-    if (error_.empty()) error_ = why.str();
+    why << "must be a list of 3 numbers (got ";
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeArray)
+      why << "a list of " << v.size() << (v.size() == 3 ? " with a non-number" : "") << ")";
+    else
+      why << typeName(v) << ")";
+    addError(key, why.str());
     return;
   }
-  value = Eigen::Vector3f(list[0], list[1], list[2]);
+  double xyz[3];
+  for (int i = 0; i < 3; ++i)
+    xyz[i] = v[i].getType() == XmlRpc::XmlRpcValue::TypeInt ? static_cast<double>(static_cast<int>(v[i]))
+                                                           : static_cast<double>(v[i]);
+  value = Eigen::Vector3f(xyz[0], xyz[1], xyz[2]);
 }
 
 std::vector<std::string> ParamReader::unknownKeys() const {

@@ -274,6 +274,26 @@ TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
   EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
 }
 
+// Issue 21: "caught" means the object itself (or a fragment of it) was flagged, not the lamp on
+// for any reason. Object 1 is dangerous while the lamp is on because of object 3 (a dangerous
+// detection elsewhere) and its own detection is never flagged: missed. Object 2's fragment (a
+// detection left over within the match distance) is flagged: caught.
+TEST(Evaluate, CaughtNeedsTheObjectItselfFlagged) {
+  std::vector<EvalFrame> frames;
+  frames.push_back(frame(1.0, true, {truth(1, 8, 0, true, 2.0), truth(3, 20, 10, false)},
+                         {det(5, 8, 0, false), det(7, 20, 10, true)}));
+  frames.push_back(frame(1.1, true, {truth(1, 7, 0, true, 1.9), truth(3, 20, 10, false)},
+                         {det(5, 7, 0, false), det(7, 20, 10, true)}));
+  TruthObject car = truth(2, 10, -3, true, 1.0);
+  car.size = Eigen::Vector2d(4.5, 1.8);
+  frames.push_back(frame(2.0, true, {car}, {det(8, 10, -3, false), det(9, 11.5, -3, true)}));
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.episodes, 2u);
+  EXPECT_EQ(r.caught, 1u) << "the lamp on for object 3 must not count as catching object 1";
+  ASSERT_EQ(r.lead_times_s.size(), 1u);
+  EXPECT_NEAR(r.lead_times_s[0], 1.0, 1e-9);
+}
+
 // The danger model on perfect tracks: each scored true object's own box and velocity, whatever
 // was detected. A 0.5 m pedestrian 4 m ahead closing at 2 m/s (truly dangerous) and one standing
 // 3 m to the side (safe), five frames at 10 Hz, nothing detected; zebra's corridor (x <= 1.5 m).

@@ -1,4 +1,6 @@
 // Pins the light controller to the paper's state diagram and the fail-safe watchdog.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "icanc/core/light_controller.hpp"
@@ -10,7 +12,7 @@ LightControllerParams paperParams() {
   LightControllerParams p;
   p.tau_s = 3.0;
   p.recheck_below_s = 1.0;
-  p.stale_timeout_s = 0.0;  // watchdog off: the paper's machine alone
+  p.watchdog_enabled = false;  // the paper's machine alone
   return p;
 }
 
@@ -73,6 +75,7 @@ TEST(LightController, ContinuousDangerKeepsTheLampOnAndEndsTauAfterTheLastReset)
 TEST(LightController, WatchdogTurnsTheLampOnWhenInputStopsAndReleasesWhenItResumes) {
   LightControllerParams p = paperParams();
   p.stale_timeout_s = 0.3;
+  p.watchdog_enabled = true;
   LightController lc(p);
   EXPECT_TRUE(lc.on());  // no input yet: fail-safe on
   EXPECT_EQ(lc.reason(), LightReason::kSensorStale);
@@ -90,6 +93,7 @@ TEST(LightController, WatchdogTurnsTheLampOnWhenInputStopsAndReleasesWhenItResum
 TEST(LightController, TimeGoingBackwardsResetsToFailSafe) {
   LightControllerParams p = paperParams();
   p.stale_timeout_s = 0.3;
+  p.watchdog_enabled = true;
   LightController lc(p);
   lc.onInput(100.0, true);
   lc.onInput(100.1, false);
@@ -109,10 +113,72 @@ TEST(LightController, ValidateNamesTheParameter) {
             std::string::npos);
 }
 
+// Issue 21: a timeout never switches the watchdog off; 0, negative, NaN and huge are refused and
+// the message names the explicit switch.
+TEST(LightController, WatchdogTimeoutZeroNegativeOrHugeIsRefused) {
+  for (double bad : {0.0, -5.0, 1e9, 5.01, std::nan("")}) {
+    LightControllerParams p;
+    p.stale_timeout_s = bad;
+    const std::string why = validate(p);
+    EXPECT_NE(why.find("stale_timeout_s"), std::string::npos) << bad;
+    EXPECT_NE(why.find("watchdog_enabled"), std::string::npos) << bad;
+  }
+  LightControllerParams p;
+  p.stale_timeout_s = kMaxStaleTimeoutS;
+  EXPECT_EQ(validate(p), "");
+}
+
+TEST(LightController, OnlyTheExplicitSwitchDisablesTheWatchdog) {
+  LightControllerParams p;
+  p.stale_timeout_s = 0.3;
+  LightController on(p);
+  on.onInput(1.0, false);
+  EXPECT_TRUE(on.tick(2.0));
+  EXPECT_EQ(on.reason(), LightReason::kSensorStale);
+  p.watchdog_enabled = false;
+  LightController off(p);
+  off.onInput(1.0, false);
+  EXPECT_FALSE(off.tick(100.0));
+  EXPECT_FALSE(off.on());
+}
+
+// Issue 21: a blind sensor is no clear road. Lamp ON with kSensorBlind for as long as the inputs
+// say blind, over the timer's state, and back to the timer when the returns come back.
+TEST(LightController, BlindSensorLightsTheLampUntilTheReturnsComeBack) {
+  LightControllerParams p;
+  LightController lc(p);
+  lc.onInput(1.0, false);
+  EXPECT_FALSE(lc.on());
+  lc.onInput(1.1, false, true);
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kSensorBlind);
+  EXPECT_FALSE(lc.tick(1.2));  // still blind between inputs
+  EXPECT_TRUE(lc.on());
+  lc.onInput(1.2, true, true);  // danger while blind: the timer runs underneath
+  EXPECT_EQ(lc.reason(), LightReason::kSensorBlind);
+  lc.onInput(1.3, false, false);
+  EXPECT_EQ(lc.reason(), LightReason::kDanger);
+  lc.onInput(4.3, false, false);  // the timer (3 s from 1.2) has run out
+  EXPECT_FALSE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kOff);
+  EXPECT_STREQ(toString(LightReason::kSensorBlind), "sensor blind");
+}
+
+TEST(LightControllerIllumination, BlindSensorWinsOverDaylight) {
+  LightControllerParams p;
+  p.illumination_enabled = true;
+  LightController lc(p);
+  lc.onIllumination(0.0, Illumination::kBright);
+  lc.onInput(0.1, false, true);
+  EXPECT_TRUE(lc.on());
+  EXPECT_EQ(lc.reason(), LightReason::kSensorBlind);
+}
+
 // The illumination gate (issue 7): off by default, the paper's machine unchanged.
 LightControllerParams gatedParams() {
   LightControllerParams p = paperParams();
   p.stale_timeout_s = 0.3;
+  p.watchdog_enabled = true;
   p.illumination_enabled = true;
   p.illumination_stale_timeout_s = 1.0;
   return p;

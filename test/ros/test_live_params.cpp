@@ -80,11 +80,11 @@ TEST(LiveParams, LightControllerRoundTrip) {
   LightControllerParams p;
   p.tau_s = 5.0;
   p.recheck_below_s = 0.5;
-  p.stale_timeout_s = 0.0;
+  p.stale_timeout_s = 1.5;
   const LightControllerParams q = fromConfig(toConfig<LightControllerConfig>(p), LightControllerParams());
   EXPECT_DOUBLE_EQ(q.tau_s, 5.0);
   EXPECT_DOUBLE_EQ(q.recheck_below_s, 0.5);
-  EXPECT_DOUBLE_EQ(q.stale_timeout_s, 0.0);
+  EXPECT_DOUBLE_EQ(q.stale_timeout_s, 1.5);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // rostest: malformed clouds reach the ObstacleDetector. Each gets a throttled error naming the
 // problem (on /rosout) and a counter in /diagnostics; the process keeps running and the next good
-// frame is processed. A stamp going backwards resets the tracker with a warning.
+// frame is processed. A stamp going backwards is rejected with a warning (issue 21); the frame
+// after it starts the new timeline and resets the tracker.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <functional>
 
@@ -62,6 +63,18 @@ class BadInput : public ::testing::Test {
     for (int attempt = 0; attempt < 6; ++attempt)
       if (goodFrame(stamp += dt, 5.0)) return true;
     return false;
+  }
+
+  // Publishes a good scene stamped `stamp` that must be rejected for its stamp: a warning with
+  // `text` on /rosout, and no obstacle array for it.
+  bool rejectedFrame(const ros::Time& stamp, const std::string& text) {
+    const std::size_t before = g_.recorder().count(g_.recorder().detections);
+    g_.publishFrame(1.0, stamp);
+    const bool warned = logged(rosgraph_msgs::Log::WARN, text);
+    ros::WallDuration(0.5).sleep();
+    const bool silent = g_.recorder().count(g_.recorder().detections) == before;
+    EXPECT_TRUE(silent) << "a frame rejected for its stamp was processed";
+    return warned && silent;
   }
 
   bool logged(std::uint8_t min_level, const std::string& text) {
@@ -136,14 +149,18 @@ TEST_F(BadInput, EachMalformedCloudIsReportedCountedAndSurvived) {
   EXPECT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0))
       << "a cloud with NaN points is still a valid frame";
 
-  // A stamp going backwards (bag loop): tracker reset with a warning, output continues.
-  ASSERT_TRUE(goodFrame(stamp - ros::Duration(5.0)));
-  EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "backwards"));
+  // A stamp going backwards (bag loop): that frame is rejected with a warning (no output); the
+  // next one, on the new timeline, resets the tracker with a warning and output continues.
+  ros::Time looped = stamp - ros::Duration(5.0);
+  EXPECT_TRUE(rejectedFrame(looped, "stamp went backwards"));
+  ASSERT_TRUE(goodFrame(looped += dt));
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "(bag loop?): tracker reset"));
 
   // Diagnostics count each case.
   EXPECT_TRUE(waitFor([&] {
     return counter("invalid clouds: empty cloud") >= 1 && counter("invalid clouds") >= 3 &&
            counter("tracker resets: time backwards") >= 1 &&
+           counter("stamps rejected: stamp went backwards") >= 1 &&
            counter("points dropped (NaN/Inf/zero)") >= 500;
   }, 5.0)) << "empty " << counter("invalid clouds: empty cloud") << ", invalid "
            << counter("invalid clouds") << ", resets " << counter("tracker resets: time backwards")
@@ -153,7 +170,7 @@ TEST_F(BadInput, EachMalformedCloudIsReportedCountedAndSurvived) {
 // The rest of issue #8's matrix. Each malformed cloud: an error on /rosout naming the problem, its
 // own counter in /diagnostics, and the next good frame processed. 2,000,000 points (max_points)
 // are processed; one more is rejected before any point is read (memory bounded by max_points).
-// A repeated stamp is processed with a warning and counted; a cloud in a frame without a
+// A repeated stamp is rejected with a warning and counted; a cloud in a frame without a
 // transform to base_link gets boxes in its own frame, a tf warning and counter, and a tracker
 // reset (output frame changed) on the way there and back.
 TEST_F(BadInput, MalformedMatrix) {
@@ -236,11 +253,10 @@ TEST_F(BadInput, MalformedMatrix) {
     ASSERT_TRUE(goodFrame(stamp += dt));
   }
 
-  // Repeating stamp: warned about, counted, processed.
+  // Repeating stamp: warned about, counted, rejected (dt = 0 would hide every speed; issue 21).
   {
     const long repeated = counter("repeated stamps");
-    ASSERT_TRUE(goodFrame(stamp));
-    EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "repeats the previous frame"));
+    EXPECT_TRUE(rejectedFrame(stamp, "repeats the previous frame"));
     EXPECT_TRUE(waitFor([&] { return counter("repeated stamps") >= repeated + 1; }, 5.0))
         << "repeated stamps " << counter("repeated stamps");
     ASSERT_TRUE(goodFrame(stamp += dt));

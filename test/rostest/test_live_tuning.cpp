@@ -6,6 +6,7 @@
 // rviz markers on /icanc/markers follow: the walker's box turns red, the lamp marker reports ON.
 #include <map>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/client.h>
 #include <gtest/gtest.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -26,11 +27,26 @@ class LiveTuning : public ::testing::Test {
         danger_("/icanc/danger_detector"),
         light_("/icanc/light_controller"),
         detector_("/icanc/obstacle_detector") {
+    diag_sub_ = g_.nh().subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
+        [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(markers_mutex_);
+          for (const auto& st : m->status)
+            for (const auto& kv : st.values)
+              if (kv.key == "reconfigurations rejected") rejected_[st.name] = std::stol(kv.value);
+        });
     markers_sub_ = g_.nh().subscribe<visualization_msgs::MarkerArray>("/icanc/markers", 100,
         [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
           std::lock_guard<std::mutex> lock(markers_mutex_);
           for (const auto& k : m->markers) markers_[k.ns + "/" + std::to_string(k.id)] = k;
         });
+  }
+
+  // "reconfigurations rejected" of the status whose name contains `status` (0 before a report).
+  long rejected(const std::string& status) {
+    std::lock_guard<std::mutex> lock(markers_mutex_);
+    for (const auto& kv : rejected_)
+      if (kv.first.find(status) != std::string::npos) return kv.second;
+    return 0;
   }
 
   // The latest marker of namespace `ns` and id `id` (an empty marker when none arrived).
@@ -74,11 +90,12 @@ class LiveTuning : public ::testing::Test {
   dynamic_reconfigure::Client<ObstacleDetectorConfig> detector_;
   std::mutex markers_mutex_;
   std::map<std::string, visualization_msgs::Marker> markers_;
+  std::map<std::string, long> rejected_;
   ros::Time t0_ = ros::Time::now();
   double t_ = 0.0;
   // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
   // which then never writes into members already freed (ASan caught it at fixture teardown).
-  ros::Subscriber markers_sub_;
+  ros::Subscriber markers_sub_, diag_sub_;
 };
 
 TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
@@ -114,6 +131,27 @@ TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
   ASSERT_TRUE(light_.setConfiguration(light));
   EXPECT_DOUBLE_EQ(light.recheck_below_s, 1.0);
   EXPECT_DOUBLE_EQ(light.tau_s, 3.0);
+
+  // Issue 21: values outside what validate() accepts are refused and counted, not clamped into
+  // the .cfg's range (stale_timeout_s -5 used to become 0 = watchdog off, and count as accepted).
+  const long light_rejected = rejected("light controller");
+  for (double bad : {-5.0, 0.0, 1e9}) {
+    light.stale_timeout_s = bad;
+    ASSERT_TRUE(light_.setConfiguration(light));
+    EXPECT_DOUBLE_EQ(light.stale_timeout_s, 0.3) << "stale_timeout_s " << bad << " not refused";
+  }
+  const long danger_rejected = rejected("danger detector");
+  danger.half_width_m = -1.0;
+  ASSERT_TRUE(danger_.setConfiguration(danger));
+  EXPECT_DOUBLE_EQ(danger.half_width_m, 0.7);
+  danger.reaction_time_s = 1e9;
+  ASSERT_TRUE(danger_.setConfiguration(danger));
+  EXPECT_DOUBLE_EQ(danger.reaction_time_s, 3.0);
+  EXPECT_TRUE(waitFor([&] {
+    return rejected("light controller") >= light_rejected + 3 &&
+           rejected("danger detector") >= danger_rejected + 2;
+  }, 5.0)) << "rejections not counted: light " << rejected("light controller") << ", danger "
+           << rejected("danger detector");
 
   // A longer timer, then a reaction time that covers the walker's distance: dangerous from the
   // very next frame, and the lamp's timer starts at the new tau.

@@ -92,7 +92,9 @@ struct EvalReport {
   // true object that is not scored (fewer than min_points returns, out of range or view) is not
   // scored either (as KITTI's DontCare), in danger and detection alike.
   std::uint64_t false_alarms_unmatched = 0;
-  std::size_t episodes = 0, caught = 0;      // danger episodes per true id
+  // Danger episodes per true id; caught: the object (its matched detection or a fragment) was
+  // flagged dangerous with the lamp on during the episode (the lamp on for another reason is not).
+  std::size_t episodes = 0, caught = 0;
   std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
   Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
   std::size_t id_switches = 0;

@@ -86,6 +86,7 @@ void visitParams(Reader& r, LightControllerParams& p) {
   r("tau_s", p.tau_s);
   r("recheck_below_s", p.recheck_below_s);
   r("stale_timeout_s", p.stale_timeout_s);
+  r("watchdog_enabled", p.watchdog_enabled);
   r("illumination/enabled", p.illumination_enabled);
   r("illumination/stale_timeout_s", p.illumination_stale_timeout_s);
 }

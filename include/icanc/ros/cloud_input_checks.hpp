@@ -1,0 +1,49 @@
+// The ObstacleDetector's input checks beyond the message layout (issue 21), as ROS glue over the
+// core's StampCheck and SensorHealth: parameters (stamp_check/*, sensor_health/*), throttled logs
+// per kind, and counters and levels in the nodelet's diagnostics. A rejected stamp makes the frame
+// invalid input (dropped: the LightController's watchdog lights the lamp when they keep coming); a
+// blind frame is processed and flagged (ObstacleArray sensor_blind: the lamp comes on).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <ros/time.h>
+
+#include "icanc/core/sensor_health.hpp"
+#include "icanc/core/stamp_check.hpp"
+#include "icanc/ros/nodelet_support.hpp"
+#include "icanc/ros/param_reader.hpp"
+
+namespace icanc {
+
+class CloudInputChecks {
+ public:
+  explicit CloudInputChecks(const std::string& log_name = "") : log_name_(log_name) {}
+
+  // Reads stamp_check/* and sensor_health/*; "" or why they are invalid (naming the key).
+  std::string load(ParamReader& reader);
+
+  // False (counted, warned about, `input` told) when the frame's stamp is not valid input.
+  bool stampValid(const ros::Time& stamp, InputMonitor& input);
+
+  // Counts the valid returns of a cloud planDecode accepted and updates the sensor's health
+  // (error while blind, throttled). Returns the count; blind() tells the verdict.
+  std::size_t checkHealth(const RawCloud& raw, const DecodePlan& plan);
+  bool blind() const { return health_.blind(); }
+
+  // Counters, and ERROR while blind / WARN when stamps were rejected since the last report
+  // (merged into the status's level and message).
+  void addTo(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+ private:
+  std::string log_name_;
+  StampCheck stamps_;
+  SensorHealth health_;
+  ros::WallTime logged_[kStampVerdicts];
+  std::uint64_t reported_rejected_ = 0;
+};
+
+}  // namespace icanc

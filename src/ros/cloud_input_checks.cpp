@@ -1,0 +1,69 @@
+#include "icanc/ros/cloud_input_checks.hpp"
+
+#include <ros/console.h>
+
+namespace icanc {
+
+std::string CloudInputChecks::load(ParamReader& reader) {
+  StampCheckParams stamp_params;
+  SensorHealthParams health_params;
+  visitParams(reader, stamp_params);
+  visitParams(reader, health_params);
+  stamps_.setParams(stamp_params);
+  health_.setParams(health_params);
+  const std::string why = validate(stamp_params);
+  return why.empty() ? validate(health_params) : why;
+}
+
+bool CloudInputChecks::stampValid(const ros::Time& stamp, InputMonitor& input) {
+  const double previous = stamps_.previousStamp();
+  const StampVerdict verdict = stamps_.check(stamp.toSec());
+  if (verdict == StampVerdict::kOk) return true;
+  input.invalid();
+  // Throttled per kind: a burst of one kind does not hide the first of another.
+  const ros::WallTime now = ros::WallTime::now();
+  ros::WallTime& last = logged_[static_cast<int>(verdict)];
+  if (last.isZero() || (now - last).toSec() >= 1.0) {
+    last = now;
+    ROS_WARN_NAMED(log_name_, "[%s] dropping cloud stamped %.6f: %s (previous %.6f); not valid "
+                   "input, the lamp fails safe if this goes on", log_name_.c_str(), stamp.toSec(),
+                   toString(verdict), previous);
+  }
+  return false;
+}
+
+std::size_t CloudInputChecks::checkHealth(const RawCloud& raw, const DecodePlan& plan) {
+  const std::size_t valid = countValidReturns(raw, plan, health_.params());
+  const std::size_t points = static_cast<std::size_t>(raw.width) * raw.height;
+  const bool was_blind = health_.blind();
+  if (health_.update(valid, points)) {
+    ROS_ERROR_THROTTLE_NAMED(1.0, log_name_, "[%s] sensor blind: %zu valid returns of %zu points "
+                             "(%.1f %% this frame, %.1f %% over the window): lamp on",
+                             log_name_.c_str(), valid, points, 100.0 * health_.frameShare(),
+                             100.0 * health_.windowShare());
+  } else if (was_blind) {
+    ROS_INFO_NAMED(log_name_, "[%s] sensor returns are back (%.1f %% this frame): not blind",
+                   log_name_.c_str(), 100.0 * health_.frameShare());
+  }
+  return valid;
+}
+
+void CloudInputChecks::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  if (health_.blind())
+    stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, "sensor blind (lamp on)");
+  if (stamps_.rejected() > reported_rejected_)
+    stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "cloud stamps rejected");
+  reported_rejected_ = stamps_.rejected();
+  for (int v = 1; v < kStampVerdicts; ++v) {
+    const auto verdict = static_cast<StampVerdict>(v);
+    stat.add(std::string("stamps rejected: ") + toString(verdict), stamps_.count(verdict));
+  }
+  stat.add("repeated stamps", stamps_.count(StampVerdict::kRepeated));
+  stat.add("sensor blind", health_.blind());
+  stat.add("sensor blind frames", health_.blindFrames());
+  stat.add("sensor blind episodes", health_.blindEpisodes());
+  stat.add("valid return share (last frame)", health_.frameShare());
+  stat.add("valid return share (window)", health_.windowShare());
+}
+
+}  // namespace icanc

@@ -1,0 +1,230 @@
+// rostest: the dark paths of issue 21 in the whole graph (launch/icanc.launch). A scene without
+// danger keeps the lamp OFF; then
+// - clouds whose stamp is frozen, zero, or alternates between two clocks: each frame is rejected
+//   (counted, WARN in the detector's diagnostics), so the LightController's watchdog lights the
+//   lamp (REASON_SENSOR_STALE) instead of the tracker seeing dt = 0 or a reset every frame (speed
+//   0, nothing ever dangerous, lamp OFF: what main did);
+// - clouds with no valid return (all NaN, all (0, 0, 0), all out of range: a covered LiDAR): the
+//   arrays say sensor_blind, the lamp is ON with REASON_SENSOR_BLIND, both nodelets' diagnostics
+//   say ERROR; the lamp goes OFF again once the returns come back.
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <functional>
+#include <limits>
+#include <map>
+
+#include "graph_fixture.hpp"
+
+namespace icanc {
+namespace test {
+namespace {
+
+class DarkPaths : public ::testing::Test {
+ protected:
+  DarkPaths() : g_("approach_front.yaml") {
+    diag_ = g_.nh().subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
+        [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          for (const auto& s : m->status) {
+            for (const char* name : {"obstacle detector", "light controller"}) {
+              if (s.name.find(name) == std::string::npos) continue;
+              levels_[name].push_back({s.level, s.message});
+              for (const auto& kv : s.values) counters_[kv.key] = kv.value;
+            }
+          }
+        });
+  }
+
+  // Good frame of the scene at t = 0.2 s: a standing pedestrian 16 m ahead, a bin 7 m off the
+  // path, nothing dangerous.
+  void good(const ros::Time& stamp) { g_.publishFrame(0.2, stamp); }
+
+  std::vector<LightState::ConstPtr> states() {
+    std::lock_guard<std::mutex> l(g_.recorder().mutex);
+    return g_.recorder().states;
+  }
+  LightState::ConstPtr lastState() {
+    std::lock_guard<std::mutex> l(g_.recorder().mutex);
+    return g_.recorder().states.empty() ? nullptr : g_.recorder().states.back();
+  }
+  LightState::ConstPtr answerTo(const ros::Time& stamp) {
+    for (const auto& s : states())
+      if (s->input_stamp == stamp) return s;
+    return nullptr;
+  }
+
+  // 10 Hz good frames until the lamp answers OFF (the graph is up and the scene is safe).
+  void settleOff(ros::Time& stamp) {
+    ros::Time last;
+    bool off = false;
+    for (int i = 0; i < 60 && !off; ++i) {
+      good(last = (stamp += ros::Duration(0.1)));
+      ros::WallDuration(0.1).sleep();
+      const LightState::ConstPtr s = answerTo(last);
+      off = s && !s->on && s->reason == LightState::REASON_OFF;
+    }
+    ASSERT_TRUE(off) << "the lamp never answered OFF to the safe scene";
+  }
+
+  // Sends `frames` clouds at 10 Hz, made by make(i).
+  void stream(int frames, const std::function<void(int)>& make) {
+    for (int i = 0; i < frames; ++i) {
+      make(i);
+      ros::WallDuration(0.1).sleep();
+    }
+  }
+
+  // The states published in the last `window_s` seconds of wall time are all ON with `reason`.
+  ::testing::AssertionResult lampOnLately(std::uint8_t reason, double window_s) {
+    const ros::Time since = ros::Time::now() - ros::Duration(window_s);
+    int n = 0;
+    for (const auto& s : states()) {
+      if (s->header.stamp < since) continue;
+      ++n;
+      if (!s->on || s->reason != reason)
+        return ::testing::AssertionFailure() << "state at " << s->header.stamp << ": on " << int(s->on)
+                                             << ", reason '" << s->reason_text << "'";
+    }
+    if (n == 0) return ::testing::AssertionFailure() << "no state in the last " << window_s << " s";
+    return ::testing::AssertionSuccess() << n << " states";
+  }
+
+  long counter(const std::string& key) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = counters_.find(key);
+    return it == counters_.end() ? -1 : std::stol(it->second);
+  }
+  bool levelSeen(const std::string& status, std::uint8_t level, const std::string& text) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& l : levels_[status])
+      if (l.first == level && l.second.find(text) != std::string::npos) return true;
+    return false;
+  }
+  void clearLevels() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    levels_.clear();
+  }
+
+  GraphFixture g_;
+  std::mutex mutex_;
+  std::map<std::string, std::vector<std::pair<std::uint8_t, std::string>>> levels_;
+  std::map<std::string, std::string> counters_;
+  ros::Subscriber diag_;
+};
+
+TEST_F(DarkPaths, StampsThatDoNotAdvanceLightTheLamp) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  settleOff(stamp);
+  using Diag = diagnostic_msgs::DiagnosticStatus;
+
+  struct Case {
+    const char* what;
+    const char* counter;
+    std::function<ros::Time(int)> stamp_of;  // frame i's stamp
+  };
+  const ros::Time frozen = stamp + ros::Duration(0.1);
+  const std::vector<Case> cases = {
+      {"frozen stamp", "stamps rejected: stamp repeats the previous frame's",
+       [&](int) { return frozen; }},
+      {"zero stamp", "stamps rejected: zero stamp", [&](int) { return ros::Time(); }},
+      // Two clocks 100 s apart, alternating: every frame goes backwards or jumps.
+      {"alternating clocks", "stamps rejected: stamp went backwards",
+       [&](int i) { return stamp + ros::Duration(0.1 * (i + 1) - (i % 2 ? 100.0 : 0.0)); }},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    clearLevels();
+    const long before = std::max(0L, counter(c.counter));
+    ros::Time last;
+    stream(20, [&](int i) { good(last = c.stamp_of(i)); });
+    // Not a clear road: the lamp has been ON (watchdog) for the last second of the 2 s.
+    EXPECT_TRUE(lampOnLately(LightState::REASON_SENSOR_STALE, 1.0));
+    EXPECT_TRUE(waitFor([&] { return counter(c.counter) >= before + 10; }, 3.0))
+        << c.counter << " = " << counter(c.counter);
+    EXPECT_TRUE(waitFor([&] { return levelSeen("obstacle detector", Diag::WARN, "stamps rejected"); }, 3.0))
+        << "no WARN 'cloud stamps rejected' in the detector's diagnostics";
+    // Good stamps again (past every stamp sent): OFF again within a few frames.
+    stamp += ros::Duration(5.0);
+    settleOff(stamp);
+  }
+}
+
+// A blind cloud: organized, 32 x 1000, every point (v, 0, 0) (all NaN when v is NaN).
+sensor_msgs::PointCloud2::Ptr blindCloud(const std::string& frame, const ros::Time& stamp, float v) {
+  auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
+  msg->header.frame_id = frame;
+  msg->header.stamp = stamp;
+  sensor_msgs::PointCloud2Modifier mod(*msg);
+  mod.setPointCloud2FieldsByString(1, "xyz");
+  mod.resize(32000);
+  msg->height = 32;
+  msg->width = 1000;
+  msg->row_step = msg->width * msg->point_step;
+  for (sensor_msgs::PointCloud2Iterator<float> x(*msg, "x"); x != x.end(); ++x) {
+    x[0] = v;
+    x[1] = x[2] = std::isnan(v) ? v : 0.0f;
+  }
+  return msg;
+}
+
+TEST_F(DarkPaths, BlindSensorLightsTheLampWithItsReason) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  settleOff(stamp);
+  using Diag = diagnostic_msgs::DiagnosticStatus;
+  const std::string frame = g_.scenario().sensor_frame;
+
+  struct Case {
+    const char* what;
+    float v;
+  };
+  const std::vector<Case> cases = {{"all NaN", std::numeric_limits<float>::quiet_NaN()},
+                                   {"all (0, 0, 0)", 0.0f},
+                                   {"all out of range", 5000.0f},
+                                   {"all on the window", 0.01f}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    clearLevels();
+    ros::Time last;
+    stream(15, [&](int) { g_.publishRaw(blindCloud(frame, last = (stamp += ros::Duration(0.1)), c.v)); });
+    ASSERT_TRUE(waitFor([&] { return answerTo(last) != nullptr; }, 5.0)) << "blind frames unanswered";
+    const LightState::ConstPtr s = answerTo(last);
+    EXPECT_TRUE(s->on);
+    EXPECT_EQ(s->reason, LightState::REASON_SENSOR_BLIND);
+    EXPECT_EQ(s->reason_text, "sensor blind");
+    EXPECT_TRUE(lampOnLately(LightState::REASON_SENSOR_BLIND, 1.0));
+    {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      ASSERT_FALSE(g_.recorder().arrays.empty());
+      EXPECT_TRUE(g_.recorder().arrays.back()->sensor_blind);
+      EXPECT_EQ(g_.recorder().arrays.back()->valid_points, 0u);
+    }
+    EXPECT_TRUE(waitFor([&] { return levelSeen("obstacle detector", Diag::ERROR, "sensor blind"); }, 3.0))
+        << "no ERROR 'sensor blind' in the detector's diagnostics";
+    EXPECT_TRUE(waitFor([&] { return levelSeen("light controller", Diag::ERROR, "sensor blind"); }, 3.0))
+        << "no ERROR 'sensor blind' in the light controller's diagnostics";
+    EXPECT_GE(counter("sensor blind frames"), 1);
+    // The returns come back: OFF again (once the window's mean share recovers).
+    settleOff(stamp);
+    {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      EXPECT_FALSE(g_.recorder().arrays.back()->sensor_blind);
+      EXPECT_GT(g_.recorder().arrays.back()->valid_points, 1000u);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace icanc
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_dark_paths");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
