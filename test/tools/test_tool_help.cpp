@@ -10,16 +10,16 @@
 
 namespace {
 
-struct Run {
+struct Outcome {
   int status = -1;  // exit status; 124: killed by timeout
   std::string out;
 };
 
-Run run(const std::string& tool, const std::string& args) {
+Outcome run(const std::string& tool, const std::string& args) {
   // 127.0.0.1:9 (discard) has no master; 10 s is far more than any usage message takes.
   const std::string cmd = "ROS_MASTER_URI=http://127.0.0.1:9 timeout 10 " + std::string(ICANC_TOOL_DIR) +
                           "/" + tool + " " + args + " 2>/dev/null";
-  Run r;
+  Outcome r;
   std::FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
   char buf[512];
@@ -36,7 +36,7 @@ const char* const kTools[] = {"icanc_bench",        "icanc_energy",        "ican
 
 TEST(ToolHelp, EveryToolAnswersHelpWithoutAMaster) {
   for (const char* tool : kTools) {
-    const Run r = run(tool, "--help");
+    const Outcome r = run(tool, "--help");
     EXPECT_EQ(r.status, 0) << tool;
     EXPECT_NE(r.out.find("usage:"), std::string::npos) << tool << " printed: " << r.out;
   }
