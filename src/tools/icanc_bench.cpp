@@ -26,6 +26,7 @@
 #include "icanc/core/obstacle_detector.hpp"
 #include "icanc/core/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -280,7 +281,13 @@ void runTracking(const icanc::TrackerParams& params, int frames) {
 
 }  // namespace
 
+namespace {
+const char* const kUsage =
+    "usage: icanc_bench [--kitti DIR] [--profile PROFILE.yaml] [--frames N] [--smoke]\n";
+}  // namespace
+
 int main(int argc, char** argv) {
+  if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(kUsage, true);
   std::string dir = "../shared/data/kitti_tracking_0000";
   std::string profile = "config/kitti_hdl64e.yaml";
   int frames = 1 << 30;
@@ -292,8 +299,7 @@ int main(int argc, char** argv) {
     else if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
     else if (a == "--smoke") smoke = true;
     else {
-      std::fprintf(stderr, "usage: icanc_bench [--kitti DIR] [--profile PROFILE.yaml] [--frames N] [--smoke]\n");
-      return 2;
+      return icanc::tools::printUsage(kUsage, false);
     }
   }
   if (smoke) frames = std::min(frames, 5);

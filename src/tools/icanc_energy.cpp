@@ -36,8 +36,8 @@
 
 namespace {
 
-void usage() {
-  std::fprintf(stderr,
+void usage(std::FILE* out = stderr) {
+  std::fprintf(out,
                "usage: icanc_energy [--lamps FILE] [--beam high|low] [--drive-min 22] [--objects 47]\n"
                "                    [--tau 3] [--danger-fraction F] [--seed 1] [--csv out.csv]\n"
                "       icanc_energy --bag BAG [--topic /icanc/light_state] [--lamps FILE]\n"
@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
-      if (a == "-h" || a == "--help") { usage(); return 0; }
+      if (a == "-h" || a == "--help") { usage(stdout); return 0; }
       if (i + 1 >= argc) throw std::invalid_argument("unknown argument or missing value: " + a);
       const char* v = argv[++i];
       if (a == "--lamps") o.lamps_path = v;

@@ -14,14 +14,23 @@
 
 #include "icanc/core/evaluation.hpp"
 #include "icanc/ros/bag_replay.hpp"
+#include "tool_help.hpp"
+
+namespace {
+const char* const kUsage =
+    "usage: icanc_eval BAG [--points /points] [--truth /ground_truth] [--ns /icanc] [--rate R]\n"
+    "                  [--fov DEG] [--min-points N] [--match M] [--range M] [--json FILE]\n"
+    "                  [--rows FILE.csv] [--name NAME]\n"
+    "Replays BAG through a running icanc graph (launch/eval.launch starts both).\n";
+}  // namespace
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "icanc_eval", ros::init_options::AnonymousName);
+  // The arguments are checked before ros::init and the master: --help and bad usage answer at once.
+  if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(kUsage, true);
   std::vector<std::string> args;
   ros::removeROSArgs(argc, argv, args);
-  if (args.size() < 2) {
-    std::fprintf(stderr, "usage: icanc_eval BAG [options]: see the header of src/tools/icanc_eval.cpp\n");
-    return 2;
+  if (args.size() < 2 || args.size() % 2 != 0 || args[1].rfind("--", 0) == 0) {
+    return icanc::tools::printUsage(kUsage, false);
   }
   icanc::ReplayOptions replay;
   icanc::EvalParams params;
@@ -44,9 +53,10 @@ int main(int argc, char** argv) {
     else if (k == "--name") name = v;
     else {
       std::fprintf(stderr, "icanc_eval: unknown option %s\n", k.c_str());
-      return 2;
+      return icanc::tools::printUsage(kUsage, false);
     }
   }
+  ros::init(argc, argv, "icanc_eval", ros::init_options::AnonymousName);
   ros::NodeHandle nh;
   ros::AsyncSpinner spinner(2);
   spinner.start();

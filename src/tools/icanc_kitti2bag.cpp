@@ -40,6 +40,7 @@
 #include "icanc/core/truth_labels.hpp"
 #include "icanc/core/yaml_params.hpp"
 #include "icanc/ros/truth_msgs.hpp"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -54,15 +55,17 @@ std::string frameName(const std::string& dir, int frame) {
   return std::ifstream(bin).good() ? bin : bin + ".xz";
 }
 
-int usage() {
-  std::cerr << "usage: icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml]\n"
-               "                       [--frames N] [--topic /points] [--sequence 0000]\n";
-  return 2;
+int usage(bool asked = false) {
+  return icanc::tools::printUsage(
+      "usage: icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml]\n"
+      "                       [--frames N] [--topic /points] [--sequence 0000]\n",
+      asked);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (icanc::tools::wantsHelp(argc, argv)) return usage(true);
   if (argc < 3) return usage();
   const std::string dir = argv[1], bag_path = argv[2];
   std::string profile_path = "config/kitti_hdl64e.yaml", topic = "/points", sequence = "0000";

@@ -16,6 +16,7 @@
 #include "icanc/core/kitti.hpp"
 #include "icanc/core/obstacle_detector.hpp"
 #include "icanc/core/yaml_params.hpp"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -35,9 +36,10 @@ std::string frameName(const std::string& dir, int frame) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const char* const usage = "usage: icanc_kitti_detect SEQUENCE_DIR [PROFILE.yaml] [--frames N]\n";
+  if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(usage, true);
   if (argc < 2) {
-    std::fprintf(stderr, "usage: icanc_kitti_detect SEQUENCE_DIR [PROFILE.yaml] [--frames N]\n");
-    return 2;
+    return icanc::tools::printUsage(usage, false);
   }
   const std::string dir = argv[1];
   std::string profile_path;

@@ -17,11 +17,13 @@
 #include <cstdio>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <ros/ros.h>
 
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -75,17 +77,20 @@ class LatencyLog {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "icanc_latency_log", ros::init_options::AnonymousName);
-  if (argc != 3) {  // remaps are removed by ros::init
-    std::fprintf(stderr, "usage: icanc_latency_log FRAMES.csv LIGHT.csv [remaps]\n");
-    return 2;
-  }
-  std::FILE* frames = std::fopen(argv[1], "w");
-  std::FILE* light = std::fopen(argv[2], "w");
+  // The arguments are checked before ros::init and the master: --help and bad usage answer at once.
+  const char* const usage = "usage: icanc_latency_log FRAMES.csv LIGHT.csv [remaps]\n";
+  if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(usage, true);
+  std::vector<std::string> args;  // without the remaps
+  ros::removeROSArgs(argc, argv, args);
+  if (args.size() != 3) return icanc::tools::printUsage(usage, false);
+  std::FILE* frames = std::fopen(args[1].c_str(), "w");
+  std::FILE* light = std::fopen(args[2].c_str(), "w");
   if (!frames || !light) {
-    std::fprintf(stderr, "icanc_latency_log: cannot write %s or %s\n", argv[1], argv[2]);
+    std::fprintf(stderr, "icanc_latency_log: cannot write %s or %s\n", args[1].c_str(),
+                 args[2].c_str());
     return 1;
   }
+  ros::init(argc, argv, "icanc_latency_log", ros::init_options::AnonymousName);
   ros::NodeHandle nh;
   LatencyLog log(nh, frames, light);
   ros::spin();

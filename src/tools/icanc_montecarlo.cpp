@@ -21,8 +21,8 @@
 
 namespace {
 
-void usage() {
-  std::fprintf(stderr,
+void usage(std::FILE* out = stderr) {
+  std::fprintf(out,
                "usage: icanc_montecarlo [--n 60] [--trials 1000] [--seed 1] [--reaction-time 1]\n"
                "                        [--range N] [--half-width 0.7] [--model paper|predictive]\n"
                "                        [--csv out.csv] [--quiet]\n");
@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
       const std::string a = argv[i];
       const bool has_value = i + 1 < argc;
       if (a == "--quiet") quiet = true;
-      else if (a == "-h" || a == "--help") { usage(); return 0; }
+      else if (a == "-h" || a == "--help") { usage(stdout); return 0; }
       else if (!has_value) throw std::invalid_argument("unknown argument or missing value: " + a);
       else if (a == "--n") p.max_boxes = int(toLong(a, argv[++i]));
       else if (a == "--trials") p.trials = int(toLong(a, argv[++i]));

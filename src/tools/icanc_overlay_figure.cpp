@@ -26,6 +26,7 @@
 #include "icanc/core/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -94,10 +95,9 @@ cv::Mat nightStreet(const image_geometry::PinholeCameraModel& model, const Eigen
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: %s SCENARIO.yaml T_SECONDS OUT.png\n", argv[0]);
-    return 2;
-  }
+  const char* const usage = "usage: icanc_overlay_figure SCENARIO.yaml T_SECONDS OUT.png\n";
+  if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(usage, true);
+  if (argc != 4) return icanc::tools::printUsage(usage, false);
   try {
     const std::string scenario_path = argv[1];
     const double t_show = std::stod(argv[2]);

@@ -31,6 +31,7 @@
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
 #include "icanc/sim/scenario_truth.hpp"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -60,11 +61,12 @@ nav_msgs::Odometry toOdometry(const icanc::sim::Scenario& s, double t, const ros
   return odom;
 }
 
-int usage() {
-  std::cerr << "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
-               "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n"
-               "                     [--odom-topic /odom]\n";
-  return 2;
+int usage(bool asked = false) {
+  return icanc::tools::printUsage(
+      "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
+      "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n"
+      "                     [--odom-topic /odom]\n",
+      asked);
 }
 
 // Dangerous stretches of one object, for the printout: "7.0-9.0 s (21 frames)".
@@ -86,6 +88,7 @@ struct Episodes {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (icanc::tools::wantsHelp(argc, argv)) return usage(true);
   if (argc < 3) return usage();
   const std::string scenario_path = argv[1], bag_path = argv[2];
   std::string topic = "/points", truth_topic = "/ground_truth", odom_topic = "/odom",

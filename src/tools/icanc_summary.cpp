@@ -12,6 +12,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <utility>
+#include <string>
 #include <vector>
 
 #include <ros/ros.h>
@@ -19,6 +20,7 @@
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/energy.hpp"
+#include "tool_help.hpp"
 
 namespace {
 
@@ -134,6 +136,15 @@ class Summary {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The arguments are checked before ros::init and the master: --help and bad usage answer at once.
+  const char* const usage =
+      "usage: icanc_summary [obstacles_danger:=/icanc/obstacles_danger] "
+      "[light_state:=/icanc/light_state]\n"
+      "Prints each lamp switch with its reason while a graph runs, and a summary at shutdown.\n";
+  if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(usage, true);
+  std::vector<std::string> args;  // without the remaps
+  ros::removeROSArgs(argc, argv, args);
+  if (args.size() != 1) return icanc::tools::printUsage(usage, false);
   ros::init(argc, argv, "icanc_summary");
   ros::NodeHandle nh;
   Summary summary(nh);
