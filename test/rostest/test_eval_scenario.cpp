@@ -66,12 +66,17 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"min_lead_time_s", lead_min},
       {"min_perfect_precision", r.perfect_tracks.precision()},
       {"min_perfect_recall", r.perfect_tracks.recall()},
+      {"min_danger_tp", double(r.danger.tp)},
   };
   const Check maxes[] = {
       {"max_duty_cycle", r.duty_cycle},
       {"max_velocity_rmse", r.velocity_rmse},
       {"max_id_switches", double(r.id_switches)},
       {"max_false_alarms", double(r.false_alarms_unmatched)},
+      // Counts: lockstep replay is deterministic (scripts/rebaseline_eval pins them at the measured
+      // value, with one frame of slack for the sanitized build's other optimisation level).
+      {"max_danger_fp", double(r.danger.fp)},
+      {"max_danger_fn", double(r.danger.fn)},
       // Tracking in the fixed frame: a static object's track stands still (needs ego motion).
       {"max_static_speed_p50", r.static_speed_samples ? r.static_speed_p50_mps : 1e9},
       {"max_static_speed_p90", r.static_speed_samples ? r.static_speed_p90_mps : 1e9},
