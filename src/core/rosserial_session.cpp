@@ -223,7 +223,8 @@ void LightBridgeSession::handleFrame(const Frame& f, double now, const rosserial
       rosserial::LogMessage log;
       if (!rosserial::deserialize(f.payload.data(), f.payload.size(), log)) {
         ++counters_.bad_payloads;
-        error(out, SessionError::kMalformedLog, "malformed rosserial_msgs/Log payload from the device");
+        error(out, SessionError::kMalformedLog,
+              "malformed rosserial_msgs/Log payload from the device");
         return;
       }
       ++counters_.device_logs;
@@ -291,7 +292,8 @@ void LightBridgeSession::handleTopicInfo(const Frame& f, double now, SessionOutp
   TopicInfo t;
   if (!rosserial::deserialize(f.payload.data(), f.payload.size(), t) || t.topic_id < rosserial::kFirstUserTopic) {
     ++counters_.bad_payloads;
-    error(out, SessionError::kMalformedTopicInfo, "malformed rosserial_msgs/TopicInfo from the device (" +
+    error(out, SessionError::kMalformedTopicInfo,
+          "malformed rosserial_msgs/TopicInfo from the device (" +
                                          std::to_string(f.payload.size()) + " bytes)");
     return;
   }

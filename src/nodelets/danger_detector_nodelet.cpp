@@ -77,10 +77,10 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
       refused_since_report_ = true;
       last_wrong_frame_ = msg.header.frame_id;
     }
-    NODELET_ERROR_THROTTLE(5.0, "obstacles in frame '%s', expected vehicle_frame '%s': array refused, "
-                           "nothing published (the lamp's watchdog turns it ON); check the "
-                           "ObstacleDetector's target_frame and tf", msg.header.frame_id.c_str(),
-                           vehicle_frame_.c_str());
+    NODELET_ERROR_THROTTLE(5.0, "obstacles in frame '%s', expected vehicle_frame '%s': array "
+                           "refused, nothing published (the lamp's watchdog turns it ON); check "
+                           "the ObstacleDetector's target_frame and tf",
+                           msg.header.frame_id.c_str(), vehicle_frame_.c_str());
     return true;
   }
 
@@ -126,8 +126,9 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     // ERROR at least once per refusal, even when good arrays follow before the next report.
     if (last_refused_ || refused_since_report_)
-      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "obstacles in frame '" + last_wrong_frame_ +
-                                                                 "', not " + vehicle_frame_ + ": refused");
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "obstacles in frame '" + last_wrong_frame_ + "', not " + vehicle_frame_ +
+                       ": refused");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
     refused_since_report_ = false;

@@ -101,9 +101,9 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     if (why.empty() && !(reconnect_period_s_ > 0.0)) why = "reconnect_period_s must be > 0";
     if (!checkParams(getName(), reader, why)) return;
     if (params.link_timeout_s < kStockLinkTimeoutS)
-      NODELET_WARN("link_timeout_s %.2f s is shorter than two time requests of a stock ros_lib device "
-                   "(2.5 s apart, %.1f s or more advised): a device that publishes nothing else will be "
-                   "dropped and resynced", params.link_timeout_s, kStockLinkTimeoutS);
+      NODELET_WARN("link_timeout_s %.2f s is shorter than two time requests of a stock ros_lib "
+                   "device (2.5 s apart, %.1f s or more advised): a device that publishes nothing "
+                   "else will be dropped and resynced", params.link_timeout_s, kStockLinkTimeoutS);
     session_.reset(new LightBridgeSession(params));
 
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight bridge " + port_name_));

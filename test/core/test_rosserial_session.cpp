@@ -221,7 +221,8 @@ TEST(LightBridgeSession, SilentDeviceIsLostAfterTheLinkTimeoutAndRenegotiated) {
     b.step();
   }
   EXPECT_FALSE(b.host.synced());
-  EXPECT_NEAR(b.now - cut, b.host.params().link_timeout_s, 0.12);  // to the last report before the cut
+  // link_timeout_s, to the last report before the cut
+  EXPECT_NEAR(b.now - cut, b.host.params().link_timeout_s, 0.12);
   EXPECT_EQ(b.host.lampStatus(), LampStatus::kUnknownFailSafe);
   EXPECT_EQ(b.count(SessionEvent::kLinkLost), 1);
   EXPECT_EQ(b.host.counters().link_losses, 1u);
