@@ -70,9 +70,9 @@ std::string validate(const DangerParams& params) {
   return why.str();
 }
 
-Section getSection(double center_y, double half_width_m) {
-  if (center_y >= half_width_m) return Section::kLeft;
-  if (center_y <= -half_width_m) return Section::kRight;
+Section getSection(double closest_y, double half_width_m) {
+  if (closest_y >= half_width_m) return Section::kLeft;
+  if (closest_y <= -half_width_m) return Section::kRight;
   return Section::kFront;
 }
 
@@ -96,9 +96,12 @@ bool isMovingTowardMe(double heading_deg, Section section, double window_deg) {
   return heading_deg >= centre - half && heading_deg <= centre + half;
 }
 
+Eigen::Vector3d closestPoint(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max) {
+  return Eigen::Vector3d::Zero().cwiseMax(aabb_min).cwiseMin(aabb_max);
+}
+
 double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max) {
-  const Eigen::Vector3d closest = Eigen::Vector3d::Zero().cwiseMax(aabb_min).cwiseMin(aabb_max);
-  return closest.norm();
+  return closestPoint(aabb_min, aabb_max).norm();
 }
 
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
@@ -158,7 +161,7 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params) {
   DangerAssessment a;
   a.speed_mps = getSpeedOfObject(object.velocity);
-  a.section = getSection(object.center.y(), params.half_width_m);
+  a.section = getSection(closestPoint(object.aabb_min, object.aabb_max).y(), params.half_width_m);
   a.distance_m = closestPointDistance(object.aabb_min, object.aabb_max);
   a.heading_deg = headingDeg(object.velocity);
   a.threshold_m = a.speed_mps * params.reaction_time_s;

@@ -1,5 +1,6 @@
 #include "icanc/core/rosserial_session.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 namespace icanc {
@@ -36,6 +37,29 @@ const char* toString(LinkState state) {
   return "unknown";
 }
 
+const char* toString(LampStatus status) {
+  switch (status) {
+    case LampStatus::kOff: return "OFF";
+    case LampStatus::kOn: return "ON";
+    case LampStatus::kUnknownFailSafe: return "unknown (link down: device fails safe ON)";
+    case LampStatus::kNotReported: return "not reported by the device";
+  }
+  return "unknown";
+}
+
+bool ErrorThrottle::allow(SessionError kind, double now, std::uint64_t& suppressed) {
+  const std::size_t i = std::min(static_cast<std::size_t>(kind), kKinds - 1);
+  if (printed_[i] && now - last_s_[i] < period_s_) {
+    ++held_[i];
+    return false;
+  }
+  suppressed = held_[i];
+  held_[i] = 0;
+  printed_[i] = true;
+  last_s_[i] = now;
+  return true;
+}
+
 namespace {
 
 std::string stripSlash(const std::string& name) {
@@ -65,6 +89,26 @@ void LightBridgeSession::event(SessionOutput& out, SessionEvent::Kind kind, std:
   out.events.push_back(std::move(e));
 }
 
+void LightBridgeSession::error(SessionOutput& out, SessionError kind, std::string text) {
+  event(out, SessionEvent::kError, std::move(text));
+  out.events.back().error = kind;
+}
+
+void LightBridgeSession::loseLink(const std::string& why, LinkState next, SessionOutput& out) {
+  if (state_ == LinkState::kSynced) {
+    ++counters_.link_losses;
+    event(out, SessionEvent::kLinkLost, why);
+  }
+  state_ = next;
+  has_lamp_report_ = false;  // what the device said on this link is no longer known
+}
+
+LampStatus LightBridgeSession::lampStatus() const {
+  if (state_ != LinkState::kSynced) return LampStatus::kUnknownFailSafe;
+  if (state_id_ == 0 || !has_lamp_report_) return LampStatus::kNotReported;
+  return lamp_report_ ? LampStatus::kOn : LampStatus::kOff;
+}
+
 void LightBridgeSession::send(std::uint16_t topic, const std::vector<std::uint8_t>& payload,
                               SessionOutput& out) {
   rosserial::appendFrame(topic, payload.data(), payload.size(), out.tx);
@@ -73,16 +117,13 @@ void LightBridgeSession::send(std::uint16_t topic, const std::vector<std::uint8_
 void LightBridgeSession::onOpened(double now, SessionOutput& out) {
   parser_.reset();
   state_ = LinkState::kNegotiating;
+  has_lamp_report_ = false;
   last_rx_s_ = now;
   requestTopics(now, out);
 }
 
 void LightBridgeSession::onClosed(double now, SessionOutput& out) {
-  if (state_ == LinkState::kSynced) {
-    ++counters_.link_losses;
-    event(out, SessionEvent::kLinkLost, "serial port closed");
-  }
-  state_ = LinkState::kClosed;
+  loseLink("serial port closed", LinkState::kClosed, out);
   parser_.reset();
   announced_.clear();
   cmd_id_ = state_id_ = 0;
@@ -143,12 +184,10 @@ void LightBridgeSession::tick(double now, const rosserial::Stamp& ros_now, Sessi
 
   if (state_ == LinkState::kSynced) {
     if (!(now - last_rx_s_ < params_.link_timeout_s)) {
-      state_ = LinkState::kNegotiating;
-      ++counters_.link_losses;
       std::ostringstream s;
       s << "no frame from the device for " << (now - last_rx_s_) << " s (link_timeout_s "
         << params_.link_timeout_s << "): device lost, requesting its topics again";
-      event(out, SessionEvent::kLinkLost, s.str());
+      loseLink(s.str(), LinkState::kNegotiating, out);
       requestTopics(now, out);
     } else if (now - last_heartbeat_s_ >= 1.0 / params_.heartbeat_hz - 1e-9) {
       sendCommand(now, out);
@@ -162,7 +201,7 @@ void LightBridgeSession::tick(double now, const rosserial::Stamp& ros_now, Sessi
         << params_.device_cmd_topic << "':";
       for (const auto& kv : announced_) s << ' ' << describe(kv.second);
       s << "; set ~device_cmd_topic or reflash the device";
-      event(out, SessionEvent::kError, s.str());
+      error(out, SessionError::kNoCommandSubscriber, s.str());
     }
     requestTopics(now, out);
   }
@@ -184,7 +223,8 @@ void LightBridgeSession::handleFrame(const Frame& f, double now, const rosserial
       rosserial::LogMessage log;
       if (!rosserial::deserialize(f.payload.data(), f.payload.size(), log)) {
         ++counters_.bad_payloads;
-        event(out, SessionEvent::kError, "malformed rosserial_msgs/Log payload from the device");
+        error(out, SessionError::kMalformedLog,
+              "malformed rosserial_msgs/Log payload from the device");
         return;
       }
       ++counters_.device_logs;
@@ -214,11 +254,7 @@ void LightBridgeSession::handleFrame(const Frame& f, double now, const rosserial
       return;
     }
     case rosserial::kIdTxStop:
-      if (state_ == LinkState::kSynced) {
-        ++counters_.link_losses;
-        event(out, SessionEvent::kLinkLost, "the device sent TX stop");
-        state_ = LinkState::kNegotiating;
-      }
+      loseLink("the device sent TX stop", LinkState::kNegotiating, out);
       requestTopics(now, out);
       return;
     default:
@@ -228,7 +264,7 @@ void LightBridgeSession::handleFrame(const Frame& f, double now, const rosserial
     bool on = true;
     if (!rosserial::deserializeBool(f.payload.data(), f.payload.size(), on)) {
       ++counters_.bad_payloads;
-      event(out, SessionEvent::kError, "malformed std_msgs/Bool payload on '" +
+      error(out, SessionError::kMalformedLampState, "malformed std_msgs/Bool payload on '" +
                                            params_.device_state_topic + "' (" +
                                            std::to_string(f.payload.size()) + " bytes)");
       return;
@@ -256,7 +292,8 @@ void LightBridgeSession::handleTopicInfo(const Frame& f, double now, SessionOutp
   TopicInfo t;
   if (!rosserial::deserialize(f.payload.data(), f.payload.size(), t) || t.topic_id < rosserial::kFirstUserTopic) {
     ++counters_.bad_payloads;
-    event(out, SessionEvent::kError, "malformed rosserial_msgs/TopicInfo from the device (" +
+    error(out, SessionError::kMalformedTopicInfo,
+          "malformed rosserial_msgs/TopicInfo from the device (" +
                                          std::to_string(f.payload.size()) + " bytes)");
     return;
   }
@@ -275,8 +312,10 @@ void LightBridgeSession::handleTopicInfo(const Frame& f, double now, SessionOutp
     if (!isBool(t)) {
       ++counters_.type_mismatches;
       cmd_id_ = 0;
-      state_ = LinkState::kMismatch;
-      event(out, SessionEvent::kError,
+      // A synced device re-announcing another type (reflashed, or another device on the port):
+      // the link is down, not up with commands refused.
+      loseLink("the device's command topic changed type", LinkState::kMismatch, out);
+      error(out, SessionError::kCommandTypeMismatch,
             "the device subscribes " + describe(t) + " but the bridge serves " + rosserial::kBoolType +
                 " (md5 " + rosserial::kBoolMd5 + "): refusing to send lamp commands; reflash the "
                 "device with a std_msgs::Bool subscriber");
@@ -297,7 +336,7 @@ void LightBridgeSession::handleTopicInfo(const Frame& f, double now, SessionOutp
     if (!isBool(t)) {
       ++counters_.type_mismatches;
       state_id_ = 0;
-      event(out, SessionEvent::kError,
+      error(out, SessionError::kStateTypeMismatch,
             "the device publishes " + describe(t) + " but the bridge expects " + rosserial::kBoolType +
                 " (md5 " + rosserial::kBoolMd5 + "): its lamp state is not republished");
       return;

@@ -2,6 +2,12 @@
 // "paper" = Listing 1, "predictive" = corridor prediction with per-track hysteresis) and
 // republishes the array with num_dangerous, and rviz markers (boxes, labels, velocity, sections)
 // on `markers` while someone listens. Glue only.
+//
+//   ~vehicle_frame (string, "base_link")  the frame the rules are written in (x forward, y left,
+//       origin on the vehicle). An array in any other frame (the ObstacleDetector could not
+//       transform, a misconfigured target_frame) is refused: counted, a throttled ERROR,
+//       diagnostics ERROR, and nothing is published for it, so the LightController's watchdog
+//       lights the lamp rather than judging sensor-frame boxes by vehicle-frame rules.
 #include <memory>
 #include <mutex>
 
@@ -32,7 +38,10 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     reader.read("marker_lifetime_s", marker_style_.lifetime_s);
     reader.read("marker_section_length_m", marker_style_.section_length_m);
-    const std::string why = validate(params_);
+    reader.read("vehicle_frame", vehicle_frame_);
+    std::string why = validate(params_);
+    if (why.empty() && bareFrame(vehicle_frame_).empty())
+      why = "vehicle_frame must name the frame the obstacles come in (e.g. base_link)";
     acceptReconfigureKeys<DangerDetectorConfig>(reader);
     if (!checkParams(getName(), reader, why.empty() ? rate_problem : why)) return;
     hysteresis_.reset(new DangerHysteresis(params_));
@@ -46,13 +55,44 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
     sub_ = nh.subscribe("obstacles", 5, &DangerDetectorNodelet::onObstacles, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
-    NODELET_INFO("DangerDetector: model %s, half_width %.2f m, reaction_time %.2f s",
-                 toString(params_.model), params_.half_width_m, params_.reaction_time_s);
+    NODELET_INFO("DangerDetector: model %s, half_width %.2f m, reaction_time %.2f s, frame %s",
+                 toString(params_.model), params_.half_width_m, params_.reaction_time_s,
+                 vehicle_frame_.c_str());
+  }
+
+  // tf2 frame ids carry no leading '/', tf1-era ones may: compare without it.
+  static std::string bareFrame(const std::string& frame) {
+    return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
+  }
+
+  // An array not in the vehicle frame: nothing is published (the watchdog lights the lamp).
+  bool refuseFrame(const ObstacleArray& msg) {
+    if (bareFrame(msg.header.frame_id) == bareFrame(vehicle_frame_)) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      last_refused_ = false;
+      return false;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++wrong_frame_;
+      last_refused_ = true;
+      refused_since_report_ = true;
+      last_wrong_frame_ = msg.header.frame_id;
+    }
+    NODELET_ERROR_THROTTLE(5.0, "obstacles in frame '%s', expected vehicle_frame '%s': array "
+                           "refused, nothing published (the lamp's watchdog turns it ON); check "
+                           "the ObstacleDetector's target_frame and tf",
+                           msg.header.frame_id.c_str(), vehicle_frame_.c_str());
+    return true;
   }
 
   void onObstacles(const ObstacleArray::ConstPtr& msg) {
     const ros::WallTime received = ros::WallTime::now();
     input_->received(msg->header.stamp.toSec());
+    if (refuseFrame(*msg)) {
+      input_->processed((ros::WallTime::now() - received).toSec() * 1e3);
+      return;
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (live_->take(params_)) hysteresis_->setParams(params_);
@@ -86,7 +126,17 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     std::lock_guard<std::mutex> lock(mutex_);
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    // ERROR at least once per refusal, even when good arrays follow before the next report.
+    if (last_refused_ || refused_since_report_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                   "obstacles in frame '" + last_wrong_frame_ + "', not " + vehicle_frame_ +
+                       ": refused");
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+    refused_since_report_ = false;
+    stat.add("vehicle_frame", vehicle_frame_);
+    stat.add("arrays refused: wrong frame", wrong_frame_);
+    stat.add("last wrong frame", last_wrong_frame_);
     stat.add("arrays processed", messages_);
     stat.add("dangerous object-frames", dangerous_total_);
     stat.add("obstacles (last array)", last_obstacles_);
@@ -108,7 +158,11 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
   ros::Publisher marker_pub_;
   ros::Subscriber sub_;
   std::mutex mutex_;
-  std::uint64_t messages_ = 0, dangerous_total_ = 0;
+  std::string vehicle_frame_ = "base_link";
+  std::uint64_t messages_ = 0, dangerous_total_ = 0, wrong_frame_ = 0;
+  bool last_refused_ = false;  // the last array was in the wrong frame: diagnostics ERROR
+  bool refused_since_report_ = false;
+  std::string last_wrong_frame_;
   std::size_t last_obstacles_ = 0, last_dangerous_ = 0;
 };
 

@@ -10,7 +10,11 @@
 //   ~device_cmd_topic, ~device_state_topic, ~heartbeat_hz, ~link_timeout_s, ~negotiation_retry_s,
 //   ~cmd_stale_timeout_s, ~frame_timeout_s, ~max_payload_bytes   see LightBridgeParams
 //   ~reconnect_period_s (1.0)       reopening attempts while the port is missing [s]
-//   ~link_up (std_msgs/Bool, latched)  true while the device is synced
+//   ~link_up (std_msgs/Bool, latched)  true while the device is synced (false on a type mismatch)
+//   lamp_status (icanc/LampState, latched)  stamped: ON / OFF as reported, UNKNOWN_FAILSAFE while
+//       the link is down (the device's command timeout turns it ON), NOT_REPORTED for a device
+//       without a lamp_state publisher; on every report and change, 1 Hz while the link is down
+// Device errors are throttled per kind (10 s each), so one repeated fault cannot hide another.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -25,6 +29,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <std_msgs/Bool.h>
 
+#include "icanc/LampState.h"
 #include "icanc/core/rosserial_session.hpp"
 #include "icanc/core/serial_port.hpp"
 #include "icanc/ros/nodelet_support.hpp"
@@ -95,13 +100,19 @@ class LightBridgeNodelet : public nodelet::Nodelet {
       why = "baud " + std::to_string(baud_) + " is not supported (9600 ... 921600; 57600 default)";
     if (why.empty() && !(reconnect_period_s_ > 0.0)) why = "reconnect_period_s must be > 0";
     if (!checkParams(getName(), reader, why)) return;
+    if (params.link_timeout_s < kStockLinkTimeoutS)
+      NODELET_WARN("link_timeout_s %.2f s is shorter than two time requests of a stock ros_lib "
+                   "device (2.5 s apart, %.1f s or more advised): a device that publishes nothing "
+                   "else will be dropped and resynced", params.link_timeout_s, kStockLinkTimeoutS);
     session_.reset(new LightBridgeSession(params));
 
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight bridge " + port_name_));
     diagnostics_->updater().add("light bridge", this, &LightBridgeNodelet::diagnose);
     state_pub_ = nh.advertise<std_msgs::Bool>("lamp_state", 10);
     link_pub_ = pnh.advertise<std_msgs::Bool>("link_up", 1, true);
+    status_pub_ = nh.advertise<LampState>("lamp_status", 1, true);
     publishLink(false);
+    publishStatus(steadyNow());
     sub_ = nh.subscribe("lamp_cmd", 10, &LightBridgeNodelet::onCommand, this, ros::TransportHints().tcpNoDelay());
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     running_ = true;
@@ -142,6 +153,8 @@ class LightBridgeNodelet : public nodelet::Nodelet {
             next_presence_check = now + reconnect_period_s_;
           }
           if (!port_.isOpen()) {
+            SessionOutput none;
+            handle(none, now);  // keeps lamp_status fresh (UNKNOWN_FAILSAFE at 1 Hz)
             wake_.wait_for(lock, std::chrono::milliseconds(20));
             continue;
           }
@@ -209,28 +222,45 @@ class LightBridgeNodelet : public nodelet::Nodelet {
       else
         write_error_ = error;  // the I/O thread closes the port (it may be polling it now)
     }
+    bool reported = false;
     for (const SessionEvent& e : out.events) {
       switch (e.kind) {
         case SessionEvent::kLampState: {
           auto msg = boost::make_shared<std_msgs::Bool>();
           msg->data = e.value;
           state_pub_.publish(std_msgs::Bool::ConstPtr(msg));
+          reported = true;
           break;
         }
         case SessionEvent::kDeviceLog: deviceLog(e, now); break;
         case SessionEvent::kLinkUp:
           NODELET_INFO("headlight device synced on %s: %s", port_name_.c_str(), e.text.c_str());
-          publishLink(true);
           break;
         case SessionEvent::kLinkLost:
           NODELET_ERROR("headlight link lost: %s", e.text.c_str());
-          publishLink(false);
           break;
-        case SessionEvent::kError: NODELET_ERROR_THROTTLE(10.0, "headlight device: %s", e.text.c_str()); break;
+        case SessionEvent::kError: {
+          std::uint64_t held = 0;
+          if (!error_throttle_.allow(e.error, now, held)) break;
+          if (held > 0)
+            NODELET_ERROR("headlight device: %s (and %lu more of this kind in the last %.0f s)",
+                          e.text.c_str(), static_cast<unsigned long>(held), kErrorPeriodS);
+          else
+            NODELET_ERROR("headlight device: %s", e.text.c_str());
+          break;
+        }
         case SessionEvent::kWarning: NODELET_WARN("headlight device: %s", e.text.c_str()); break;
         case SessionEvent::kInfo: NODELET_INFO_THROTTLE(60.0, "headlight device: %s", e.text.c_str()); break;
       }
     }
+    // link_up and lamp_status follow the session's state, whatever event changed it.
+    const bool up = session_->synced();
+    if (up != link_published_) publishLink(up);
+    const LampStatus status = session_->lampStatus();
+    const bool commanded = session_->commandInForce(now);
+    if (reported || status != status_published_ || commanded != commanded_published_ ||
+        (!up && now - status_published_s_ >= 1.0))
+      publishStatus(now);
     // Wire faults: one line per second at most, naming what happened since the last line.
     const rosserial::ParserCounters& c = session_->parserCounters();
     if ((c.faults() != logged_faults_.faults() || c.garbage_bytes != logged_faults_.garbage_bytes) &&
@@ -267,6 +297,20 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     auto msg = boost::make_shared<std_msgs::Bool>();
     msg->data = up;
     link_pub_.publish(std_msgs::Bool::ConstPtr(msg));
+    link_published_ = up;
+  }
+
+  // With mutex_ held (or before the I/O thread starts).
+  void publishStatus(double now) {
+    auto msg = boost::make_shared<LampState>();
+    msg->header.stamp = ros::Time::now();
+    status_published_ = session_->lampStatus();
+    commanded_published_ = session_->commandInForce(now);
+    status_published_s_ = now;
+    msg->state = static_cast<std::uint8_t>(status_published_);
+    msg->link_up = session_->synced();
+    msg->commanded_on = commanded_published_;
+    status_pub_.publish(LampState::ConstPtr(msg));
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -303,6 +347,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     stat.add("baud", baud_);
     stat.add("link state", toString(state));
     stat.add("command in force", cmd_on ? "ON" : "OFF");
+    stat.add("lamp status", toString(session_->lampStatus()));
     stat.add("device lamp state", session_->hasLampReport() ? (session_->lampReport() ? "ON" : "OFF") : "unknown");
     stat.add("lamp report age [s]", session_->hasLampReport() ? now - session_->lastLampReportTime() : -1.0);
     stat.add("last error", last_error_);
@@ -342,7 +387,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;  // lamp_cmd (the LightController publishes >= publish_rate_hz)
   double expected_rate_hz_ = 10.0;
-  ros::Publisher state_pub_, link_pub_;
+  ros::Publisher state_pub_, link_pub_, status_pub_;
   ros::Subscriber sub_;
   std::thread thread_;
   std::condition_variable wake_;
@@ -354,6 +399,13 @@ class LightBridgeNodelet : public nodelet::Nodelet {
   std::string last_error_;
   std::string write_error_;  // set by a failed write, the I/O thread then closes the port
   std::uint64_t port_opens_ = 0, port_losses_ = 0, open_failures_ = 0, lamp_cmds_ = 0, tx_bytes_ = 0;
+  static constexpr double kStockLinkTimeoutS = 5.0;  // two ros_lib time-sync periods [s]
+  static constexpr double kErrorPeriodS = 10.0;      // per-kind throttle of device errors [s]
+  ErrorThrottle error_throttle_{kErrorPeriodS};
+  bool link_published_ = false;
+  LampStatus status_published_ = LampStatus::kUnknownFailSafe;
+  bool commanded_published_ = true;
+  double status_published_s_ = -1e9;
   std::deque<double> latencies_ms_;  // lamp_cmd callback -> frame written and drained
   rosserial::ParserCounters logged_faults_;
   double last_fault_log_ = -1e9;

@@ -168,6 +168,36 @@ TEST(AssessDanger, SideSectionsNeedTheirOwnWindow) {
   EXPECT_FALSE(right.dangerous);
 }
 
+TEST(AssessDanger, TheClosestPointDecidesTheSection) {
+  // The paper's reference code takes the section of the box's point closest to the vehicle, not
+  // of its centre. A 4.7 m x 1.9 m car centred 1.5 m right (y = -1.5) with w = 1.2: its centre is
+  // right of the path (y <= -w), its near edge at y = -0.55 is inside it, so it is in front.
+  DangerParams p;
+  p.half_width_m = 1.2;
+  p.reaction_time_s = 2.0;
+  ObjectKinematics car;
+  car.center = Eigen::Vector3d(10.0, -1.5, 0.0);
+  car.aabb_min = car.center - Eigen::Vector3d(2.35, 0.95, 0.75);
+  car.aabb_max = car.center + Eigen::Vector3d(2.35, 0.95, 0.75);
+  car.velocity = velocityAt(180.0, 5.0);  // oncoming at 5 m/s: threshold 10 m, distance 7.65 m
+  EXPECT_DOUBLE_EQ(closestPoint(car.aabb_min, car.aabb_max).y(), -0.55);
+  const DangerAssessment a = assessDanger(car, p);
+  EXPECT_EQ(a.section, Section::kFront);
+  // The front window [105, 255] holds an oncoming heading (the right one, [15, 165], does not).
+  EXPECT_TRUE(a.moving_toward);
+  EXPECT_TRUE(a.dangerous);
+  // Once its near edge is at -w it is right of the path, and oncoming is not toward the path.
+  car.center.y() = -2.15;
+  car.aabb_min.y() = -3.1;
+  car.aabb_max.y() = -1.2;
+  EXPECT_EQ(assessDanger(car, p).section, Section::kRight);
+  EXPECT_FALSE(assessDanger(car, p).dangerous);
+  // A box straddling the path (closest y = 0) is in front whatever its centre.
+  car.aabb_min.y() = -3.0;
+  car.aabb_max.y() = 0.4;
+  EXPECT_EQ(assessDanger(car, p).section, Section::kFront);
+}
+
 TEST(DangerParams, ValidateNamesTheParameter) {
   EXPECT_EQ(validate(DangerParams{}), "");
   EXPECT_NE(validate(DangerParams{0.0, 3.0}).find("half_width_m"), std::string::npos);

@@ -49,7 +49,7 @@ TEST(BoxGenerator, DistanceAndSpeedAreExactlyTheDrawnIntegers) {
       const Eigen::Vector3d closest = Eigen::Vector3d::Zero().cwiseMax(k.aabb_min).cwiseMin(k.aabb_max);
       EXPECT_NEAR(std::atan2(closest.y(), closest.x()) * 180.0 / M_PI, -90.5 + b, 1e-4);  // angles nudged by <= 1e-6 rad
       EXPECT_EQ(closest.z(), 0.0);
-      ++sections[static_cast<int>(getSection(k.center.y(), 0.7)) - 1];
+      ++sections[static_cast<int>(getSection(closest.y(), 0.7)) - 1];  // as assessDanger
     }
   }
   EXPECT_GT(sections[0], 0);  // boxes land in all three sections

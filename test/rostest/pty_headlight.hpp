@@ -35,6 +35,9 @@ struct PtyHeadlightOptions {
   std::string cmd_md5 = rosserial::kBoolMd5;
   std::uint32_t command_timeout_ms = 500;
   std::uint32_t state_period_ms = 100;
+  // false: a stock subscribe-only sketch (no lamp_state publisher): it sends nothing but ros_lib's
+  // time request every 2.5 s.
+  bool report_state = true;
 };
 
 class PtyHeadlight {
@@ -122,7 +125,9 @@ class PtyHeadlight {
     options_ = options;
     device_.reset(new rosserial::RosserialDevice());
     logic_ = icanc_fw::HeadlightLogic(options.command_timeout_ms);
-    state_id_ = device_->advertise("lamp_state", rosserial::kBoolType, rosserial::kBoolMd5);
+    state_id_ = options.report_state
+                    ? device_->advertise("lamp_state", rosserial::kBoolType, rosserial::kBoolMd5)
+                    : 0;
     device_->subscribe("lamp_cmd", options.cmd_type, options.cmd_md5, [this](const std::uint8_t* d, std::size_t n) {
       bool v = true;
       if (n == 1 && rosserial::deserializeBool(d, n, v)) {
@@ -177,7 +182,7 @@ class PtyHeadlight {
       device_->spinOnce(now, tx);
       const bool was_on = logic_.lampOn();
       const bool on = logic_.update(device_->connected(), now);  // unplugged, it only times out
-      if (on != was_on || now - last_state_ms_ >= options_.state_period_ms) {
+      if (state_id_ != 0 && (on != was_on || now - last_state_ms_ >= options_.state_period_ms)) {
         device_->publish(state_id_, {static_cast<std::uint8_t>(on)}, tx);
         last_state_ms_ = now;
       }

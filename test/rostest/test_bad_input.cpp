@@ -41,9 +41,14 @@ class BadInput : public ::testing::Test {
     diag_ = g_.nh().subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
         [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
           std::lock_guard<std::mutex> lock(mutex_);
-          for (const auto& s : m->status)
+          for (const auto& s : m->status) {
             if (s.name.find("obstacle detector") != std::string::npos)
               for (const auto& kv : s.values) counters_[kv.key] = kv.value;
+            if (s.name.find("danger detector") != std::string::npos) {
+              for (const auto& kv : s.values) counters_[kv.key] = kv.value;
+              if (s.level == diagnostic_msgs::DiagnosticStatus::ERROR) danger_errors_.push_back(s.message);
+            }
+          }
         });
   }
 
@@ -103,6 +108,7 @@ class BadInput : public ::testing::Test {
   std::mutex mutex_;
   std::vector<rosgraph_msgs::Log> logs_;
   std::map<std::string, std::string> counters_;
+  std::vector<std::string> danger_errors_;  // DangerDetector diagnostics at level ERROR
   // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
   // which then never writes into members already freed (ASan caught it at fixture teardown).
   ros::Subscriber rosout_, diag_;
@@ -266,6 +272,8 @@ TEST_F(BadInput, MalformedMatrix) {
   {
     const long tf_before = counter("transform failures");
     const long changes_before = counter("output frame changes");
+    const long refused_before = counter("arrays refused: wrong frame");
+    ASSERT_GE(refused_before, 0) << "the DangerDetector reports no refused arrays counter";
     auto orphan = xyzCloud(1000, 5.0f);
     orphan->header.frame_id = "lidar_without_tf";
     orphan->header.stamp = stamp += dt;
@@ -279,12 +287,32 @@ TEST_F(BadInput, MalformedMatrix) {
     }
     EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "no transform lidar_without_tf -> base_link"));
     EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "output frame changed from 'base_link' to 'lidar_without_tf'"));
+    // The DangerDetector refuses sensor-frame boxes (its rules are in base_link; issue 21):
+    // counted, an ERROR naming both frames, diagnostics ERROR, and no obstacles_danger for them.
+    EXPECT_TRUE(waitFor([&] { return counter("arrays refused: wrong frame") >= refused_before + 1; }, 5.0))
+        << "arrays refused " << counter("arrays refused: wrong frame");
+    EXPECT_TRUE(logged(rosgraph_msgs::Log::ERROR, "obstacles in frame 'lidar_without_tf', expected "
+                                                  "vehicle_frame 'base_link': array refused"));
+    EXPECT_TRUE(waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& e : danger_errors_)
+        if (e.find("lidar_without_tf") != std::string::npos) return true;
+      return false;
+    }, 5.0)) << "no DangerDetector diagnostics ERROR naming the frame";
+    {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      for (const auto& a : g_.recorder().arrays)
+        EXPECT_EQ(a->header.frame_id, "base_link") << "an array in a foreign frame was judged";
+    }
+    const std::size_t arrays_before_good = g_.recorder().count(g_.recorder().arrays);
     // Back to the sensor frame with its transform: base_link again, another reset.
     ASSERT_TRUE(goodFrame(stamp += dt));
     {
       std::lock_guard<std::mutex> l(g_.recorder().mutex);
       EXPECT_EQ(g_.recorder().detections.back()->header.frame_id, "base_link");
     }
+    EXPECT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().arrays) > arrays_before_good; }, 5.0))
+        << "the DangerDetector did not resume in base_link";
     EXPECT_TRUE(waitFor([&] {
       return counter("transform failures") >= tf_before + 1 &&
              counter("output frame changes") >= changes_before + 2;

@@ -65,8 +65,11 @@ struct DangerParams {
 
 std::string validate(const DangerParams& params);
 
-// getSection: front when -w < y < w, left when y >= w, right when y <= -w (y of the box centre).
-Section getSection(double center_y, double half_width_m);
+// getSection: front when -w < y < w, left when y >= w, right when y <= -w, where y is that of the
+// box's point closest to the vehicle origin (closestPoint), as the paper's reference code
+// (danielma4/ICanC_v2 danger_publisher_node.cpp: getSection(getClosestPoint(box))): a car whose
+// centre is beside the path but whose near edge is inside it is in the front section.
+Section getSection(double closest_y, double half_width_m);
 
 // getSpeedOfObject: planar speed |(vx, vy)| of the velocity relative to the vehicle [m/s].
 double getSpeedOfObject(const Eigen::Vector3d& velocity);
@@ -82,8 +85,11 @@ double headingDeg(const Eigen::Vector3d& velocity);
 // (DangerParams::heading_window_deg, (0, 180]) keep the centres 90, 270 and 180.
 bool isMovingTowardMe(double heading_deg, Section section, double window_deg = kPaperHeadingWindowDeg);
 
-// Distance from the vehicle origin to the closest point of an axis-aligned box: the origin
-// clamped into the box per axis (x, y and z, as the paper's reference code), then its norm.
+// The point of an axis-aligned box closest to the vehicle origin: the origin clamped into the box
+// per axis (x, y and z, as the paper's reference code getClosestPoint).
+Eigen::Vector3d closestPoint(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max);
+
+// Distance from the vehicle origin to the closest point of an axis-aligned box (its norm).
 double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max);
 
 // What the rules need of one tracked object.
@@ -121,6 +127,7 @@ struct DangerAssessment {
 // Dispatches on params.model. kPaper (Listing 1): dangerous when distance <= speed *
 // reaction_time and isMovingTowardMe. kPredictive: dangerous when timeToCorridor >= 0 (section,
 // distance, speed, heading and moving_toward are filled as for the paper's rule, for display).
+// The section is that of the closest point of [aabb_min, aabb_max] (getSection).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
 // kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at its

@@ -8,6 +8,9 @@
 //                              republished (kLampState events)
 //       anything else       --> kMismatch: no command is ever sent; an error names both types
 //   no good frame from the device for link_timeout_s --> kLinkLost event, back to kNegotiating
+//       (any frame is life: a stock subscribe-only ros_lib device sends only its time requests,
+//       one every 2.5 s, so the default timeout spans two of them)
+//   a synced device re-announces the command topic with another type --> kLinkLost, kMismatch
 //   port closed --> kClosed
 //
 // Also served: time requests (id 10, answered with std_msgs/Time = ros_now), device logs (id 7,
@@ -31,7 +34,10 @@ struct LightBridgeParams {
   std::string device_cmd_topic = "lamp_cmd";      // the device's std_msgs/Bool subscriber
   std::string device_state_topic = "lamp_state";  // the device's std_msgs/Bool publisher ("" = none)
   double heartbeat_hz = 10.0;          // command repeated at this rate even when unchanged [Hz]
-  double link_timeout_s = 1.0;         // no frame from a synced device this long: link lost [s]
+  // No frame (of any kind, time requests included) from a synced device this long: link lost [s].
+  // ros_lib requests the time every 2.5 s (SYNC_SECONDS * 500 ms) and may send nothing else;
+  // rosserial_python waits 15 s. 6 s tolerates one lost time request.
+  double link_timeout_s = 6.0;
   double negotiation_retry_s = 1.0;    // "request topics" repeated this often until synced [s]
   double cmd_stale_timeout_s = 1.0;    // no lamp_cmd from ROS this long: command ON [s]
   double frame_timeout_s = 0.1;        // a frame stalled this long mid-way is abandoned [s]
@@ -42,6 +48,29 @@ std::string validate(const LightBridgeParams& params);
 
 enum class LinkState : std::uint8_t { kClosed = 0, kNegotiating = 1, kSynced = 2, kMismatch = 3 };
 const char* toString(LinkState state);
+
+// What an error event is about. The nodelet throttles each kind on its own (ErrorThrottle), so
+// one repeated fault (a malformed TopicInfo every negotiation) cannot hide another (a command
+// subscriber of the wrong type).
+enum class SessionError : std::uint8_t {
+  kNone = 0,
+  kMalformedTopicInfo,
+  kMalformedLog,
+  kMalformedLampState,
+  kCommandTypeMismatch,
+  kStateTypeMismatch,
+  kNoCommandSubscriber,
+  kCount
+};
+
+// The lamp as the host knows it (icanc/LampState's constants).
+enum class LampStatus : std::uint8_t {
+  kOff = 0,
+  kOn = 1,
+  kUnknownFailSafe = 2,  // link down: no report; the device's command timeout turns the lamp ON
+  kNotReported = 3,      // link up, but the device publishes no lamp state (subscribe-only)
+};
+const char* toString(LampStatus status);
 
 struct SessionEvent {
   enum Kind : std::uint8_t {
@@ -57,6 +86,24 @@ struct SessionEvent {
   std::string text;
   std::uint8_t level = 0;
   bool value = false;
+  SessionError error = SessionError::kNone;  // kError events: what the error is about
+};
+
+// Per-kind throttle of error lines: the first error of a kind passes, then at most one per
+// period_s of that kind; the ones held back are counted and reported with the next line.
+class ErrorThrottle {
+ public:
+  explicit ErrorThrottle(double period_s) : period_s_(period_s) {}
+  // True when a line may be printed at `now` [s]; `suppressed` is then the number of errors of
+  // this kind held back since its previous line.
+  bool allow(SessionError kind, double now, std::uint64_t& suppressed);
+
+ private:
+  static constexpr std::size_t kKinds = static_cast<std::size_t>(SessionError::kCount);
+  double period_s_;
+  double last_s_[kKinds] = {};
+  bool printed_[kKinds] = {};
+  std::uint64_t held_[kKinds] = {};
 };
 
 struct SessionOutput {
@@ -107,6 +154,8 @@ class LightBridgeSession {
   bool commandStale(double now) const;
   bool hasLampReport() const { return has_lamp_report_; }
   bool lampReport() const { return lamp_report_; }
+  // Unknown (fail-safe) unless synced; the report of this link only (forgotten when it drops).
+  LampStatus lampStatus() const;
   double lastLampReportTime() const { return last_lamp_report_s_; }
   double lastRxTime() const { return last_rx_s_; }
   std::uint16_t cmdTopicId() const { return cmd_id_; }
@@ -123,6 +172,9 @@ class LightBridgeSession {
   void sendCommand(double now, SessionOutput& out);
   void send(std::uint16_t topic, const std::vector<std::uint8_t>& payload, SessionOutput& out);
   static void event(SessionOutput& out, SessionEvent::Kind kind, std::string text);
+  static void error(SessionOutput& out, SessionError kind, std::string text);
+  // A synced link drops (kLinkLost event, counted, the lamp report forgotten); `next` is the state.
+  void loseLink(const std::string& why, LinkState next, SessionOutput& out);
 
   LightBridgeParams params_;
   rosserial::FrameParser parser_;
