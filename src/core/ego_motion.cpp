@@ -11,11 +11,7 @@ double yawOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0)
 // The pose after moving for dt at the body velocity and yaw rate, as an isometry in the frame the
 // motion started from.
 Eigen::Isometry3d stepPose(const Eigen::Vector3d& velocity, double yaw_rate, double dt) {
-  const PlanarPose p = predictEgoPose(velocity.head<2>(), yaw_rate, dt);
-  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-  step.translation() << p.position, velocity.z() * dt;
-  step.linear() = Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return step;
+  return predictEgoPose(velocity.head<2>(), yaw_rate, dt).toIsometry(velocity.z() * dt);
 }
 
 // Inverse of predictEgoPose's position: the body velocity that covers `chord` in t at yaw rate w.
@@ -170,6 +166,13 @@ Eigen::Vector3d relativeVelocity(const Eigen::Vector3d& velocity_over_ground,
   const Eigen::Vector3d frame_velocity =
       ego_velocity + Eigen::Vector3d(0.0, 0.0, ego_yaw_rate).cross(position);
   return velocity_over_ground - frame_velocity;
+}
+
+Eigen::Isometry3d PlanarPose::toIsometry(double z) const {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() << position, z;
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return pose;
 }
 
 PlanarPose predictEgoPose(const Eigen::Vector2d& v, double w, double t) {

@@ -11,11 +11,7 @@ namespace {
 
 // The vehicle's pose in odom after t seconds on a constant-turn arc from the origin.
 Eigen::Isometry3d arcPose(double speed, double yaw_rate, double t) {
-  const PlanarPose p = predictEgoPose(Eigen::Vector2d(speed, 0.0), yaw_rate, t);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() << p.position, 0.0;
-  pose.linear() = Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return pose;
+  return predictEgoPose(Eigen::Vector2d(speed, 0.0), yaw_rate, t).toIsometry();
 }
 
 EgoMotionParams source(EgoMotionSource s) {

@@ -14,11 +14,7 @@ namespace icanc {
 namespace {
 
 Eigen::Isometry3d arcPose(double speed, double yaw_rate, double t) {
-  const PlanarPose p = predictEgoPose(Eigen::Vector2d(speed, 0.0), yaw_rate, t);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() << p.position, 0.0;
-  pose.linear() = Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return pose;
+  return predictEgoPose(Eigen::Vector2d(speed, 0.0), yaw_rate, t).toIsometry();
 }
 
 // An axis-aligned box of this size around `center` (vehicle frame), as a detection.

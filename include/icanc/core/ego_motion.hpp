@@ -92,6 +92,8 @@ Eigen::Vector3d relativeVelocity(const Eigen::Vector3d& velocity_over_ground,
 struct PlanarPose {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();
   double yaw = 0.0;
+  // The same pose in 3D, at height z, turned about z by yaw.
+  Eigen::Isometry3d toIsometry(double z = 0.0) const;
 };
 PlanarPose predictEgoPose(const Eigen::Vector2d& body_velocity, double yaw_rate, double t);
 
