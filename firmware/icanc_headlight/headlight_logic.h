@@ -1,6 +1,6 @@
 // Fail-safe headlight logic of the icanc_headlight sketch, in plain C++ (no Arduino, no STL, no
 // allocation) so that the same header compiles for the board and in the host's unit tests
-// (test/core/test_headlight_logic.cpp).
+// (test/core/light/test_headlight_logic.cpp).
 //
 // The lamp is OFF only while all of these hold:
 //   - the node handle is connected (the host negotiated the topics),

@@ -20,7 +20,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "icanc/ObstacleArray.h"
-#include "icanc/core/camera_overlay.hpp"
+#include "icanc/core/camera/camera_overlay.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
 namespace icanc {

@@ -17,7 +17,7 @@
 
 #include "icanc/DangerDetectorConfig.h"
 #include "icanc/ObstacleArray.h"
-#include "icanc/core/danger.hpp"
+#include "icanc/core/danger/danger.hpp"
 #include "icanc/ros/conversions.hpp"
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/markers.hpp"

@@ -16,7 +16,7 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include "icanc/IlluminationState.h"
-#include "icanc/core/illumination.hpp"
+#include "icanc/core/camera/illumination.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
 namespace icanc {

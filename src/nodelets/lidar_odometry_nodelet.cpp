@@ -18,8 +18,8 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
-#include "icanc/core/cloud_decode.hpp"
-#include "icanc/core/lidar_odometry.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
+#include "icanc/core/motion/lidar_odometry.hpp"
 #include "icanc/ros/conversions.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 

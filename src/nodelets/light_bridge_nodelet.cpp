@@ -30,8 +30,8 @@
 #include <std_msgs/Bool.h>
 
 #include "icanc/LampState.h"
-#include "icanc/core/rosserial_session.hpp"
-#include "icanc/core/serial_port.hpp"
+#include "icanc/core/bridge/rosserial_session.hpp"
+#include "icanc/core/bridge/serial_port.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
 namespace icanc {

@@ -14,7 +14,7 @@
 #include "icanc/LightControllerConfig.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
-#include "icanc/core/light_controller.hpp"
+#include "icanc/core/light/light_controller.hpp"
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/markers.hpp"
 #include "icanc/ros/nodelet_support.hpp"

@@ -14,9 +14,9 @@
 
 #include "icanc/ObstacleArray.h"
 #include "icanc/ObstacleDetectorConfig.h"
-#include "icanc/core/cloud_decode.hpp"
-#include "icanc/core/ego_motion.hpp"
-#include "icanc/core/obstacle_detector.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
+#include "icanc/core/motion/ego_motion.hpp"
+#include "icanc/core/perception/obstacle_detector.hpp"
 #include "icanc/ros/cloud_input_checks.hpp"
 #include "icanc/ros/conversions.hpp"
 #include "icanc/ros/ego_pose_source.hpp"

@@ -5,7 +5,7 @@
 
 #include <ros/console.h>
 
-#include "icanc/core/frame_gaps.hpp"
+#include "icanc/core/input/frame_gaps.hpp"
 
 namespace icanc {
 

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "icanc/core/param_keys.hpp"
+#include "icanc/core/common/param_keys.hpp"
 
 namespace icanc {
 

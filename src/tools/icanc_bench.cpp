@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "icanc/core/cloud_decode.hpp"
-#include "icanc/core/kitti.hpp"
-#include "icanc/core/kitti_score.hpp"
-#include "icanc/core/lidar_odometry.hpp"
-#include "icanc/core/obstacle_detector.hpp"
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
+#include "icanc/core/evaluation/kitti.hpp"
+#include "icanc/core/evaluation/kitti_score.hpp"
+#include "icanc/core/motion/lidar_odometry.hpp"
+#include "icanc/core/perception/obstacle_detector.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "tool_help.hpp"
 

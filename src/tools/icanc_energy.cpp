@@ -31,8 +31,8 @@
 #include <rosbag/view.h>
 
 #include "icanc/LightState.h"
-#include "icanc/core/energy.hpp"
-#include "icanc/core/monte_carlo.hpp"
+#include "icanc/core/evaluation/energy.hpp"
+#include "icanc/core/evaluation/monte_carlo.hpp"
 
 namespace {
 

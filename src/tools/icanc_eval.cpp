@@ -12,7 +12,7 @@
 
 #include <ros/ros.h>
 
-#include "icanc/core/evaluation.hpp"
+#include "icanc/core/evaluation/evaluation.hpp"
 #include "icanc/ros/bag_replay.hpp"
 #include "tool_help.hpp"
 

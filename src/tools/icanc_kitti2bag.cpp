@@ -36,9 +36,9 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "icanc/ros/bag_static_tf.hpp"
-#include "icanc/core/kitti.hpp"
-#include "icanc/core/truth_labels.hpp"
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/evaluation/kitti.hpp"
+#include "icanc/core/evaluation/truth_labels.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 #include "icanc/ros/truth_msgs.hpp"
 #include "tool_help.hpp"
 

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "icanc/core/kitti.hpp"
-#include "icanc/core/obstacle_detector.hpp"
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/evaluation/kitti.hpp"
+#include "icanc/core/perception/obstacle_detector.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 #include "tool_help.hpp"
 
 namespace {

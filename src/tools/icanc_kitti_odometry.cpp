@@ -25,9 +25,9 @@
 
 #include <time.h>
 
-#include "icanc/core/kitti.hpp"
-#include "icanc/core/lidar_odometry.hpp"
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/evaluation/kitti.hpp"
+#include "icanc/core/motion/lidar_odometry.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 // fraction deemed dangerous, the analytic P(D) = 150/360 (1/2 + 1/(2n)) and the difference; the
 // mean over all box counts; whether the fraction depends on the number of boxes (the paper's
 // hypothesis: it does not); and how long the run took. The box model is documented in
-// include/icanc/core/monte_carlo.hpp.
+// include/icanc/core/evaluation/monte_carlo.hpp.
 //
 //   icanc_montecarlo [--n 60] [--trials 1000] [--seed 1] [--reaction-time 1] [--range N]
 //                    [--half-width 0.7] [--model paper|predictive] [--csv out.csv] [--quiet]
@@ -17,7 +17,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "icanc/core/monte_carlo.hpp"
+#include "icanc/core/evaluation/monte_carlo.hpp"
 
 namespace {
 

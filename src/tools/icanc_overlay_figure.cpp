@@ -19,11 +19,11 @@
 #include <pcl/common/transforms.h>
 #include <sensor_msgs/CameraInfo.h>
 
-#include "icanc/core/camera_overlay.hpp"
-#include "icanc/core/danger.hpp"
-#include "icanc/core/illumination.hpp"
-#include "icanc/core/obstacle_detector.hpp"
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/camera/camera_overlay.hpp"
+#include "icanc/core/danger/danger.hpp"
+#include "icanc/core/camera/illumination.hpp"
+#include "icanc/core/perception/obstacle_detector.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
 #include "tool_help.hpp"

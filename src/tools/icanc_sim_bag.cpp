@@ -26,7 +26,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "icanc/ros/bag_static_tf.hpp"
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 #include "icanc/ros/truth_msgs.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"

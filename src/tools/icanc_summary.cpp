@@ -19,7 +19,7 @@
 
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
-#include "icanc/core/energy.hpp"
+#include "icanc/core/evaluation/energy.hpp"
 #include "tool_help.hpp"
 
 namespace {

@@ -15,7 +15,7 @@
 #include <cstring>
 #include <vector>
 
-#include "icanc/core/cloud_decode.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "icanc/core/kitti.hpp"
+#include "icanc/core/evaluation/kitti.hpp"
 
 namespace {
 

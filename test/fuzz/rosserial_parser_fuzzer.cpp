@@ -1,5 +1,5 @@
 // libFuzzer target for the rosserial frame parser and the bridge's host session
-// (scripts/fuzz builds and runs it for a bounded time; test/core/test_rosserial_fuzz_replay.cpp
+// (scripts/fuzz builds and runs it for a bounded time; test/core/bridge/test_rosserial_fuzz_replay.cpp
 // runs the same checks on deterministic random inputs in the regular suite).
 //
 // Input layout: the first byte picks the parser's maximum payload, then chunks of
@@ -15,8 +15,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "icanc/core/rosserial_protocol.hpp"
-#include "icanc/core/rosserial_session.hpp"
+#include "icanc/core/bridge/rosserial_protocol.hpp"
+#include "icanc/core/bridge/rosserial_session.hpp"
 
 namespace {
 

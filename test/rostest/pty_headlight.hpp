@@ -1,5 +1,5 @@
 // An emulated icanc_headlight board on a pseudo-terminal, for the LightBridge rostests: the
-// device side of rosserial (icanc/core/rosserial_device.hpp, behaving like ros_lib) running the
+// device side of rosserial (icanc/core/bridge/rosserial_device.hpp, behaving like ros_lib) running the
 // sketch's fail-safe logic (firmware/icanc_headlight/headlight_logic.h) in its own thread, with a
 // symlink at a fixed path standing for /dev/ttyACM0. Faults are injected from the test thread:
 // unplug (the pty and the symlink vanish), replug (new pty, same path), reset (power cycle, if
@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "../../firmware/icanc_headlight/headlight_logic.h"
-#include "icanc/core/rosserial_device.hpp"
+#include "icanc/core/bridge/rosserial_device.hpp"
 
 namespace icanc {
 namespace test {

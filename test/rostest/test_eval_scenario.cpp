@@ -13,7 +13,7 @@
 #include <ros/package.h>
 #include <ros/ros.h>
 
-#include "icanc/core/evaluation.hpp"
+#include "icanc/core/evaluation/evaluation.hpp"
 #include "icanc/ros/bag_replay.hpp"
 
 namespace icanc {

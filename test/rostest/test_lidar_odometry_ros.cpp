@@ -17,7 +17,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
-#include "../core/lidar_odometry_scene.hpp"
+#include "../core/motion/lidar_odometry_scene.hpp"
 
 namespace icanc {
 namespace {

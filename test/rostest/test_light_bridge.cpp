@@ -19,7 +19,7 @@
 #include <std_msgs/Bool.h>
 
 #include "icanc/LampState.h"
-#include "icanc/core/rosserial_session.hpp"
+#include "icanc/core/bridge/rosserial_session.hpp"
 #include "pty_headlight.hpp"
 
 namespace icanc {

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "icanc/core/yaml_params.hpp"
+#include "icanc/core/common/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
 #include "icanc/sim/scenario_truth.hpp"

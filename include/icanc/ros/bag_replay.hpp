@@ -9,7 +9,7 @@
 
 #include <ros/node_handle.h>
 
-#include "icanc/core/evaluation.hpp"
+#include "icanc/core/evaluation/evaluation.hpp"
 
 namespace icanc {
 

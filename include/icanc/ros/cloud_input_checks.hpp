@@ -12,8 +12,8 @@
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <ros/time.h>
 
-#include "icanc/core/sensor_health.hpp"
-#include "icanc/core/stamp_check.hpp"
+#include "icanc/core/input/sensor_health.hpp"
+#include "icanc/core/input/stamp_check.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 #include "icanc/ros/param_reader.hpp"
 

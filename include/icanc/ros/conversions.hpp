@@ -5,10 +5,10 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include "icanc/Obstacle.h"
-#include "icanc/core/cloud_decode.hpp"
-#include "icanc/core/danger.hpp"
-#include "icanc/core/ego_motion.hpp"
-#include "icanc/core/tracker.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
+#include "icanc/core/danger/danger.hpp"
+#include "icanc/core/motion/ego_motion.hpp"
+#include "icanc/core/tracking/tracker.hpp"
 
 namespace icanc {
 

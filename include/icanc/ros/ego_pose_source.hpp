@@ -15,7 +15,7 @@
 #include <ros/subscriber.h>
 #include <tf2_ros/buffer.h>
 
-#include "icanc/core/ego_motion.hpp"
+#include "icanc/core/motion/ego_motion.hpp"
 
 namespace icanc {
 

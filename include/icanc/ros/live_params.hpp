@@ -1,5 +1,5 @@
 // Live tuning: a dynamic_reconfigure server over one of the core's parameter structs. The .cfg
-// (cfg/*.cfg) names are the visitParams keys (icanc/core/param_keys.hpp) with '/' written '_', so
+// (cfg/*.cfg) names are the visitParams keys (icanc/core/common/param_keys.hpp) with '/' written '_', so
 // the conversion walks the same key list as the YAML and rosparam readers, and keys the .cfg does
 // not declare (the ROI boxes) stay as loaded. The server starts from the values the nodelet
 // loaded; a change is validated with the core's validate() (invalid: throttled error, the old
@@ -19,7 +19,7 @@
 #include <dynamic_reconfigure/server.h>
 #include <ros/console.h>
 
-#include "icanc/core/param_keys.hpp"
+#include "icanc/core/common/param_keys.hpp"
 #include "icanc/ros/param_reader.hpp"
 
 namespace icanc {

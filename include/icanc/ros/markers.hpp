@@ -11,7 +11,7 @@
 
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
-#include "icanc/core/danger.hpp"
+#include "icanc/core/danger/danger.hpp"
 
 namespace icanc {
 

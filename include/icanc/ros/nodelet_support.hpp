@@ -40,7 +40,7 @@ std::string readExpectedRate(ParamReader& reader, double& expected_rate_hz);
 // (diagnostic_updater::FrequencyStatus over 10 updates, WARN "Frequency too low." below 80 % of
 // expected_rate_hz, no upper bound: replays may run faster), processing time (last, mean and max
 // since the previous report), and invalid and dropped frames (WARN while they grow). Dropped
-// frames are missing stamps at the expected rate (icanc/core/frame_gaps.hpp). Thread-safe.
+// frames are missing stamps at the expected rate (icanc/core/input/frame_gaps.hpp). Thread-safe.
 class InputMonitor {
  public:
   InputMonitor(diagnostic_updater::Updater& updater, const std::string& topic, double expected_rate_hz);

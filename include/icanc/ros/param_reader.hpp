@@ -12,10 +12,10 @@
 #include <Eigen/Core>
 #include <ros/node_handle.h>
 
-#include "icanc/core/danger.hpp"
-#include "icanc/core/illumination.hpp"
-#include "icanc/core/light_controller.hpp"
-#include "icanc/core/obstacle_detector.hpp"
+#include "icanc/core/danger/danger.hpp"
+#include "icanc/core/camera/illumination.hpp"
+#include "icanc/core/light/light_controller.hpp"
+#include "icanc/core/perception/obstacle_detector.hpp"
 
 namespace icanc {
 
@@ -30,7 +30,7 @@ class ParamReader {
   void read(const std::string& key, std::string& value);
   void read(const std::string& key, float& value);
   void read(const std::string& key, Eigen::Vector3f& value);  // a list of three numbers
-  // The visitParams reader interface (icanc/core/param_keys.hpp).
+  // The visitParams reader interface (icanc/core/common/param_keys.hpp).
   template <class T>
   void operator()(const std::string& key, T& value) {
     read(key, value);

@@ -10,8 +10,8 @@
 #include <ros/time.h>
 
 #include "icanc/GroundTruthArray.h"
-#include "icanc/core/ground_truth.hpp"
-#include "icanc/core/truth_labels.hpp"
+#include "icanc/core/evaluation/ground_truth.hpp"
+#include "icanc/core/evaluation/truth_labels.hpp"
 
 namespace icanc {
 

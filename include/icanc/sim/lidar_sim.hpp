@@ -11,7 +11,7 @@
 
 #include <Eigen/Geometry>
 
-#include "icanc/core/types.hpp"
+#include "icanc/core/common/types.hpp"
 #include "icanc/sim/path.hpp"
 
 namespace icanc {

@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "icanc/core/ground_truth.hpp"
-#include "icanc/core/truth_labels.hpp"
-#include "icanc/core/types.hpp"
+#include "icanc/core/evaluation/ground_truth.hpp"
+#include "icanc/core/evaluation/truth_labels.hpp"
+#include "icanc/core/common/types.hpp"
 #include "icanc/sim/scenario.hpp"
 
 namespace icanc {

@@ -1,0 +1,175 @@
+// Scoring a replay against ground truth, as the paper's evaluation (Section V) and more:
+// danger per object-frame (TP/FP/FN/TN, precision, recall, accuracy, F1), danger episodes
+// (caught, missed, warning lead time), detection recall/precision, id switches, velocity RMSE,
+// end-to-end latency percentiles and lamp duty cycle. ROS-free: the evaluator fills the frames.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "icanc/core/danger/danger.hpp"
+
+namespace icanc {
+
+struct TruthObject {
+  std::uint32_t id = 0;
+  std::string type;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();  // x, y in the vehicle frame [m]
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();    // footprint length (along yaw), width [m]
+  double yaw = 0.0;                                  // [rad]
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  bool has_velocity = true;
+  std::uint32_t num_points = 0;   // LiDAR returns inside the true box
+  bool dangerous = false;         // ground truth (enters the corridor within the horizon)
+  double time_to_corridor = -1.0; // [s], -1 when not within the horizon
+};
+
+struct DetectedObject {
+  std::uint32_t id = 0;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // relative to the vehicle
+  // Over ground (icanc/Obstacle velocity_over_ground; the relative one without ego motion).
+  Eigen::Vector2d velocity_over_ground = Eigen::Vector2d::Zero();
+  bool dangerous = false;
+  std::uint32_t age = 0;  // frames since the track's birth (icanc/Obstacle age; 0 unknown)
+  // What the danger model saw (the rows; the box bias): axis-aligned x, y bounds (when has_aabb)
+  // and the filter's 1-sigma velocity uncertainty along x and y.
+  bool has_aabb = false;
+  Eigen::Vector2d aabb_min = Eigen::Vector2d::Zero();
+  Eigen::Vector2d aabb_max = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity_std = Eigen::Vector2d::Zero();
+};
+
+struct EvalFrame {
+  double t = 0.0;                 // stamp [s]
+  bool processed = false;         // the graph answered this frame
+  bool lamp_on = false;           // lamp state after this frame
+  double latency_ms = 0.0;        // cloud received -> light state published (wall)
+  std::vector<TruthObject> truth;
+  std::vector<DetectedObject> detections;
+  // The vehicle's twist the graph used for this frame (ObstacleArray.ego_twist): the danger model on
+  // perfect tracks predicts the vehicle along the same path.
+  Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
+  double ego_yaw_rate = 0.0;
+  bool ego_motion = false;  // the twist was measured (or carried over a missing pose)
+};
+
+struct EvalParams {
+  // A detection matches a true object when its BEV centre lies within this distance of the true
+  // oriented footprint (0 inside it): a partly seen car's cluster centre sits off the true centre.
+  double match_distance_m = 1.0;
+  std::uint32_t min_points = 10;  // true objects with fewer returns are not expected to be seen
+  double max_range_m = 40.0;      // true objects / detections farther away are not scored
+  double fov_half_angle_deg = 180.0;  // scored sector around +x (KITTI labels: 45)
+  std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
+  double static_speed_mps = 0.5;      // true objects slower over ground than this stand still
+  // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
+  // a perfect danger detector would have had (EvalReport::truth_duty_cycle).
+  double lamp_tau_s = 2.0;
+  double lamp_recheck_below_s = 1.0;
+  // The graph's danger detector (danger_detector/*), for EvalReport::perfect_tracks.
+  DangerParams danger;
+};
+
+struct Confusion {
+  std::uint64_t tp = 0, fp = 0, fn = 0, tn = 0;
+  double precision() const;
+  double recall() const;
+  double accuracy() const;
+  double f1() const;
+};
+
+struct EvalReport {
+  std::size_t frames = 0, processed = 0;
+  // Per object-frame: eligible true objects (flagged when their matched detection, or a fragment
+  // of them, is dangerous) and false alarms. A fragment is a detection left over by the one-to-one
+  // matching within EvalParams::match_distance_m of a true object's footprint.
+  Confusion danger;
+  // Dangerous detections of no true object (in fp). A detection within the match distance of a
+  // true object that is not scored (fewer than min_points returns, out of range or view) is not
+  // scored either (as KITTI's DontCare), in danger and detection alike.
+  std::uint64_t false_alarms_unmatched = 0;
+  // Danger episodes per true id; caught: the object (its matched detection or a fragment) was
+  // flagged dangerous with the lamp on during the episode (the lamp on for another reason is not).
+  std::size_t episodes = 0, caught = 0;
+  std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
+  Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
+  std::size_t id_switches = 0;
+  double velocity_rmse = 0.0;       // planar, over matched pairs with known truth velocity
+  std::size_t velocity_samples = 0;
+  // Where the velocity error comes from: the same RMSE over settled tracks only (age >=
+  // EvalParams::settled_age), and the RMS frame-to-frame change of the detected centre's offset
+  // from the true centre while the same track follows the same object (box jitter, which the
+  // filter reads as motion: 0.1 m per frame at 10 Hz is 1 m/s).
+  double velocity_rmse_settled = 0.0;
+  std::size_t velocity_samples_settled = 0;
+  double offset_step_rms_m = 0.0;
+  std::size_t offset_steps = 0;
+  // How far the true footprint (its axis-aligned bounds) reaches beyond the matched detection's
+  // box, median over matched detections with a box: the face toward the vehicle along x, and the
+  // two faces along y. Labelled boxes are larger than what a LiDAR sees: this is what
+  // danger_detector/predictive/footprint_margin_m makes up for (KITTI 0.19 / 0.25 m).
+  double box_bias_near_m = 0.0;
+  double box_bias_side_m = 0.0;
+  std::size_t box_bias_samples = 0;
+  // Tracking in the fixed frame (issue 19): the speed over ground of the tracks matched to true
+  // objects that stand still (their true relative velocity plus the frame's ego twist at them is
+  // below EvalParams::static_speed_mps), median and 90th percentile over settled tracks. Zero
+  // samples when the graph reports no ego motion (every object moves relative to the vehicle).
+  double static_speed_p50_mps = 0.0;
+  double static_speed_p90_mps = 0.0;
+  std::size_t static_speed_samples = 0;
+  double latency_p50_ms = 0, latency_p90_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
+  double duty_cycle = 0.0;          // fraction of processed frames with the lamp on
+  // The same for a perfect danger detector: the light controller (EvalParams::lamp_*) given, each
+  // processed frame, whether any true object is dangerous. What danger there is keeps the lamp on
+  // at least this long; a lower duty_cycle means missed or late warnings.
+  double truth_duty_cycle = 0.0;
+  // The danger model (EvalParams::danger, with its hysteresis per true id when predictive) given
+  // perfect perception: each scored true object's own box (its axis-aligned bounds), relative
+  // velocity (zero where the labels give none) and no velocity uncertainty, scored per
+  // object-frame as `danger`. What it misses is the model's, or the truth's (a pedestrian who will
+  // stop, or start, is labelled by where it will be): `danger` below this is perception's.
+  Confusion perfect_tracks;
+};
+
+// One object-frame of the danger score and what decided it: an eligible true object (with the
+// detection matched to it, or the dangerous fragment that flagged it), or a dangerous detection of
+// no true object (a false alarm). Counting the TP/FP/FN/TN rows gives EvalReport::danger.
+// kDontCare rows are dangerous detections on a true object that is not scored (too few returns,
+// out of range or view): not counted, listed because they light the lamp (duty_cycle).
+enum class Outcome : std::uint8_t {
+  kTruePositive, kFalsePositive, kFalseNegative, kTrueNegative, kDontCare
+};
+const char* toString(Outcome outcome);  // "TP", "FP", "FN", "TN", "DC"
+
+struct ScoredRow {
+  double t = 0.0;
+  Outcome outcome = Outcome::kTrueNegative;
+  bool has_truth = false;   // false: a false alarm of no true object
+                            // (a kDontCare row has the unscored object)
+  TruthObject truth;
+  bool has_detection = false;  // the matched detection, else the flagging fragment, else none
+  bool fragment = false;       // the detection is a fragment of the true object, not its match
+  DetectedObject detection;
+};
+
+// Distance from a point to the oriented footprint of a true object (0 when inside).
+double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point);
+
+// `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger, and
+// one kDontCare row per dangerous detection on an unscored true object.
+EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
+                    std::vector<ScoredRow>* rows = nullptr);
+
+// A fixed-width table like the paper's, and the same figures as JSON.
+std::string toTable(const EvalReport& report, const std::string& title);
+std::string toJson(const EvalReport& report, const std::string& name);
+// The rows as CSV with a header line (one object-frame per line; empty fields where no truth or
+// no detection).
+std::string toCsv(const std::vector<ScoredRow>& rows);
+
+}  // namespace icanc

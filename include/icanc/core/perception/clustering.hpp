@@ -1,0 +1,25 @@
+// Euclidean clustering (PCL EuclideanClusterExtraction with a k-d tree) and box fitting.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "icanc/core/perception/box.hpp"
+#include "icanc/core/common/types.hpp"
+
+namespace icanc {
+
+struct ClusterParams {
+  float tolerance_m = 0.6f;  // neighbour distance [m]
+  int min_points = 10;
+  int max_points = 5000;
+};
+
+std::string validate(const ClusterParams& params);
+
+// Clusters `cloud` and returns one fitted box per cluster, largest cluster first, with its
+// footprint cells when footprint_cell_m > 0 (fitBox).
+std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
+                                float footprint_cell_m = 0.0f);
+
+}  // namespace icanc

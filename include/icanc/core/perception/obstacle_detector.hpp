@@ -1,0 +1,118 @@
+// The Obstacle Detector of the paper as one ROS-free pipeline: preparation -> RANSAC ground ->
+// Euclidean clusters and boxes -> tracking (Hungarian + Kalman), with per-stage timings.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "icanc/core/perception/box.hpp"
+#include "icanc/core/perception/cloud_prep.hpp"
+#include "icanc/core/perception/clustering.hpp"
+#include "icanc/core/perception/fast_detector.hpp"
+#include "icanc/core/perception/ground_removal.hpp"
+#include "icanc/core/tracking/tracker.hpp"
+#include "icanc/core/common/types.hpp"
+
+namespace icanc {
+
+// "classic": the paper's PCL chain (voxel grid, RANSAC plane, k-d tree Euclidean clusters).
+// "fast": FastDetector (polar-grid ground that follows slopes, BEV grid connected components);
+// it uses prep's ROI and ego box, not its voxel grid, nor the ground and cluster sections.
+enum class DetectorMethod : std::uint8_t { kClassic, kFast, kInvalid };
+const char* toString(DetectorMethod method);
+DetectorMethod parseDetectorMethod(const std::string& name);  // kInvalid for anything else
+
+struct ObstacleDetectorParams {
+  DetectorMethod method = DetectorMethod::kClassic;
+  // Each box carries its footprint as tight boxes per occupied cell of this grid
+  // (Box3D::footprint), both methods [m]; 0: none (the axis-aligned box is the footprint).
+  float footprint_cell_m = 1.0f;
+  FastDetectorParams fast;
+  CloudPrepParams prep;
+  GroundParams ground;
+  ClusterParams cluster;
+  TrackerParams tracker;
+};
+
+// First problem found, or "" when every part is valid.
+std::string validate(const ObstacleDetectorParams& params);
+
+struct StageTimes {
+  double prep_ms = 0.0;
+  double ground_ms = 0.0;
+  double cluster_ms = 0.0;
+  double track_ms = 0.0;
+  double total_ms() const { return prep_ms + ground_ms + cluster_ms + track_ms; }
+};
+
+class ObstacleDetector {
+ public:
+  explicit ObstacleDetector(const ObstacleDetectorParams& params = ObstacleDetectorParams());
+
+  // Processes one frame already in the vehicle frame, stamped `stamp_s` (header stamp).
+  MultiObjectTracker::UpdateResult process(double stamp_s, const Cloud& cloud,
+                                           StageTimes* times = nullptr);
+
+  // Same, with the points from `source(sink)` (sink(x, y, z) per point, already in the vehicle
+  // frame), e.g. straight from a PointCloud2 decoder: the fast path reads them in its first
+  // pass; the classic one collects them into a cloud first.
+  template <class Source>
+  MultiObjectTracker::UpdateResult processFrom(double stamp_s, Source&& source,
+                                               StageTimes* times = nullptr);
+
+  const std::vector<Box3D>& detections() const { return detections_; }  // this frame's clusters
+  const std::vector<Track>& tracks() const { return tracker_.tracks(); }
+  const GroundResult& ground() const { return ground_; }  // classic path only
+  const FastDetector* fast() const { return fast_.get(); }  // null unless method is kFast
+
+  // Where the sensor is in the frame the clouds are given in (the vehicle frame): the tracker
+  // measures the faces of each box nearest it (TrackAnchor). Default: the frame's origin. The
+  // nodelet sets it from the cloud's transform every frame.
+  void setSensorOrigin(const Eigen::Vector3f& origin) { sensor_origin_ = origin; }
+
+  // How the vehicle moved since the previous frame (EgoStep::motion), for the next frame only: the
+  // tracker re-expresses its tracks by it, so their velocities are over ground. Not set: the
+  // vehicle is taken to stand still (velocities relative to it, the paper's behaviour).
+  void setFrameMotion(const Eigen::Isometry3d& motion) { frame_motion_ = motion; }
+
+  // Takes effect on the next frame; the tracks are kept.
+  void setParams(const ObstacleDetectorParams& params);
+  const ObstacleDetectorParams& params() const { return params_; }
+  void reset() { tracker_.reset(); }
+
+ private:
+  MultiObjectTracker::UpdateResult track(double stamp_s, StageTimes* times);
+
+  ObstacleDetectorParams params_;
+  std::unique_ptr<FastDetector> fast_;
+  MultiObjectTracker tracker_;
+  Cloud collected_;
+  Cloud prepared_;
+  Cloud nonground_;
+  GroundResult ground_;
+  std::vector<Box3D> detections_;
+  Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();
+  Eigen::Isometry3d frame_motion_ = Eigen::Isometry3d::Identity();
+};
+
+template <class Source>
+MultiObjectTracker::UpdateResult ObstacleDetector::processFrom(double stamp_s, Source&& source,
+                                                               StageTimes* times) {
+  if (!fast_) {
+    collected_.clear();
+    source([this](float x, float y, float z) { collected_.push_back(Point(x, y, z)); });
+    return process(stamp_s, collected_, times);
+  }
+  FastStageTimes fast_times;
+  fast_->detectFrom(std::forward<Source>(source), detections_, &fast_times);
+  if (times) {
+    times->prep_ms = fast_times.prep_ms;
+    times->ground_ms = fast_times.ground_ms;
+    times->cluster_ms = fast_times.cluster_ms;
+  }
+  return track(stamp_s, times);
+}
+
+}  // namespace icanc

@@ -1,0 +1,201 @@
+#include "icanc/core/danger/danger.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <sstream>
+
+#include "icanc/core/motion/ego_motion.hpp"
+
+namespace icanc {
+
+const char* toString(Section section) {
+  switch (section) {
+    case Section::kLeft: return "left";
+    case Section::kFront: return "front";
+    case Section::kRight: return "right";
+  }
+  return "unknown";
+}
+
+const char* toString(DangerModel model) {
+  switch (model) {
+    case DangerModel::kPaper: return "paper";
+    case DangerModel::kPredictive: return "predictive";
+    case DangerModel::kInvalid: break;
+  }
+  return "invalid";
+}
+
+DangerModel parseDangerModel(const std::string& name) {
+  if (name == "paper") return DangerModel::kPaper;
+  if (name == "predictive") return DangerModel::kPredictive;
+  return DangerModel::kInvalid;
+}
+
+std::string validate(const DangerParams& params) {
+  std::ostringstream why;
+  if (!(params.half_width_m > 0.0 && params.half_width_m <= 10.0))
+    why << "danger.half_width_m must be in (0, 10] m (got " << params.half_width_m << ")";
+  else if (!(params.reaction_time_s > 0.0 && params.reaction_time_s <= 30.0))
+    why << "danger.reaction_time_s must be in (0, 30] s (got " << params.reaction_time_s << ")";
+  else if (!(params.heading_window_deg > 0.0 && params.heading_window_deg <= 180.0))
+    why << "danger.heading_window_deg must be in (0, 180] (got " << params.heading_window_deg << ")";
+  else if (params.model != DangerModel::kPaper && params.model != DangerModel::kPredictive)
+    why << "danger.model must be \"paper\" or \"predictive\"";
+  else if (!(params.margin_m >= 0.0))
+    why << "danger.margin_m must be >= 0 (got " << params.margin_m << ")";
+  else if (!(params.vehicle_front_m >= 0.0))
+    why << "danger.vehicle_front_m must be >= 0 (got " << params.vehicle_front_m << ")";
+  else if (!(params.stopping_margin_m > 0.0))
+    why << "danger.stopping_margin_m must be > 0 (got " << params.stopping_margin_m << ")";
+  else if (!(params.velocity_std_k >= 0.0))
+    why << "danger.velocity_std_k must be >= 0 (got " << params.velocity_std_k << ")";
+  else if (!(params.uncertainty_cap_m >= 0.0))
+    why << "danger.uncertainty_cap_m must be >= 0 (got " << params.uncertainty_cap_m << ")";
+  else if (!(params.static_prior_k >= 0.0 && params.static_prior_k <= 10.0))
+    why << "danger.static_prior_k must be in [0, 10] (got " << params.static_prior_k << ")";
+  else if (!(params.footprint_margin_m >= 0.0))
+    why << "danger.footprint_margin_m must be >= 0 (got " << params.footprint_margin_m << ")";
+  else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
+    why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
+  else if (params.on_frames < 1)
+    why << "danger.on_frames must be >= 1 (got " << params.on_frames << ")";
+  else if (params.off_frames < 1)
+    why << "danger.off_frames must be >= 1 (got " << params.off_frames << ")";
+  else if (!(params.immediate_ttc_s >= 0.0))
+    why << "danger.immediate_ttc_s must be >= 0 (got " << params.immediate_ttc_s << ")";
+  else if (!(params.forget_after_s > 0.0))
+    why << "danger.forget_after_s must be > 0 (got " << params.forget_after_s << ")";
+  return why.str();
+}
+
+Section getSection(double closest_y, double half_width_m) {
+  if (closest_y >= half_width_m) return Section::kLeft;
+  if (closest_y <= -half_width_m) return Section::kRight;
+  return Section::kFront;
+}
+
+double getSpeedOfObject(const Eigen::Vector3d& velocity) { return velocity.head<2>().norm(); }
+
+double headingDeg(const Eigen::Vector3d& velocity) {
+  if (velocity.x() == 0.0 && velocity.y() == 0.0) return 0.0;
+  double deg = std::atan2(velocity.y(), velocity.x()) * 180.0 / M_PI;
+  if (deg < 0.0) deg += 360.0;
+  return deg >= 360.0 ? 0.0 : deg;
+}
+
+bool isMovingTowardMe(double heading_deg, Section section, double window_deg) {
+  double centre = 0.0;  // the heading straight across or into the path
+  switch (section) {
+    case Section::kRight: centre = 90.0; break;
+    case Section::kLeft: centre = 270.0; break;
+    case Section::kFront: centre = 180.0; break;
+  }
+  const double half = 0.5 * window_deg;
+  return heading_deg >= centre - half && heading_deg <= centre + half;
+}
+
+Eigen::Vector3d closestPoint(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max) {
+  return Eigen::Vector3d::Zero().cwiseMax(aabb_min).cwiseMin(aabb_max);
+}
+
+double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max) {
+  return closestPoint(aabb_min, aabb_max).norm();
+}
+
+double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
+  const double half_width = params.half_width_m + params.margin_m;
+  const double length = params.vehicle_front_m + params.stopping_margin_m;
+  const auto sigmaOf = [](double s) { return std::isfinite(s) ? std::max(0.0, s) : 0.0; };
+  const double sigma_x = sigmaOf(object.velocity_std.x()), sigma_y = sigmaOf(object.velocity_std.y());
+  // The object's velocity over ground: its relative velocity plus the velocity of the
+  // vehicle-fixed point where it is (relativeVelocity's inverse, planar).
+  const Eigen::Vector2d ego_v = object.ego_velocity;
+  const double ego_w = object.ego_yaw_rate;
+  Eigen::Vector2d ground_v = object.velocity.head<2>() + ego_v +
+                             ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  // The static-world prior: each axis shrunk toward zero by k sigma (soft threshold).
+  const Eigen::Vector2d shrink = params.static_prior_k * Eigen::Vector2d(sigma_x, sigma_y);
+  for (int axis = 0; axis < 2; ++axis)
+    ground_v[axis] = std::copysign(std::max(0.0, std::abs(ground_v[axis]) - shrink[axis]), ground_v[axis]);
+  const bool turning = ego_w != 0.0;
+  const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
+  for (int i = 0; i <= steps; ++i) {
+    const double t = std::min(i * params.time_step_s, params.reaction_time_s);
+    const double grow_x = params.footprint_margin_m +
+                          std::min(params.velocity_std_k * sigma_x * t, params.uncertainty_cap_m);
+    const double grow_y = params.footprint_margin_m +
+                          std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
+    // Where the vehicle will be, and the object's displacement seen from there.
+    const PlanarPose ego = predictEgoPose(ego_v, ego_w, t);
+    const Eigen::Rotation2Dd to_future(-ego.yaw);
+    const Eigen::Vector2d shift = ground_v * t - ego.position;
+    // A part of the footprint, moved and seen from the future vehicle frame: the bounds of its
+    // corners (exact for a vehicle going straight, where it only moves).
+    const auto moved = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
+      if (!turning) return Eigen::AlignedBox2d(min + shift, max + shift);
+      Eigen::AlignedBox2d box;
+      for (int corner = 0; corner < 4; ++corner) {
+        const Eigen::Vector2d p(corner & 1 ? max.x() : min.x(), corner & 2 ? max.y() : min.y());
+        box.extend(to_future * (p + shift));
+      }
+      return box;
+    };
+    // The corridor grown by the uncertainty against the moved parts: the axis-aligned box first,
+    // then (only then) its parts.
+    const Eigen::Vector2d lo(-grow_x, -half_width - grow_y);
+    const Eigen::Vector2d hi(length + grow_x, half_width + grow_y);
+    const auto overlaps = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
+      const Eigen::AlignedBox2d b = moved(min, max);
+      return (b.max().array() >= lo.array()).all() && (b.min().array() <= hi.array()).all();
+    };
+    if (!overlaps(object.aabb_min.head<2>(), object.aabb_max.head<2>())) continue;
+    if (object.footprint.empty()) return t;
+    for (const Eigen::AlignedBox2d& part : object.footprint)
+      if (overlaps(part.min(), part.max())) return t;
+  }
+  return -1.0;
+}
+
+DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params) {
+  DangerAssessment a;
+  a.speed_mps = getSpeedOfObject(object.velocity);
+  a.section = getSection(closestPoint(object.aabb_min, object.aabb_max).y(), params.half_width_m);
+  a.distance_m = closestPointDistance(object.aabb_min, object.aabb_max);
+  a.heading_deg = headingDeg(object.velocity);
+  a.threshold_m = a.speed_mps * params.reaction_time_s;
+  a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
+  if (params.model == DangerModel::kPredictive) {
+    a.time_to_corridor_s = predictedTimeToCorridor(object, params);
+    a.dangerous = a.time_to_corridor_s >= 0.0;
+  } else {
+    a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;
+  }
+  return a;
+}
+
+bool DangerHysteresis::update(std::uint32_t id, const DangerAssessment& raw, double now_s) {
+  if (now_s < last_now_s_) tracks_.clear();  // time went backwards: a new replay
+  last_now_s_ = now_s;
+  if (now_s - last_prune_s_ >= params_.forget_after_s) {
+    for (auto it = tracks_.begin(); it != tracks_.end();)
+      it = now_s - it->second.last_seen_s > params_.forget_after_s ? tracks_.erase(it) : std::next(it);
+    last_prune_s_ = now_s;
+  }
+  Track& track = tracks_[id];
+  track.last_seen_s = now_s;
+  if (raw.dangerous) {
+    ++track.positives;
+    track.negatives = 0;
+    const bool urgent = raw.time_to_corridor_s >= 0.0 && raw.time_to_corridor_s <= params_.immediate_ttc_s;
+    if (urgent || track.positives >= params_.on_frames) track.on = true;
+  } else {
+    ++track.negatives;
+    track.positives = 0;
+    if (track.negatives >= params_.off_frames) track.on = false;
+  }
+  return track.on;
+}
+
+}  // namespace icanc

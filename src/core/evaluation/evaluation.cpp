@@ -1,0 +1,425 @@
+#include "icanc/core/evaluation/evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "icanc/core/tracking/hungarian.hpp"
+#include "icanc/core/light/light_controller.hpp"
+
+namespace icanc {
+namespace {
+
+double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+bool inScope(const Eigen::Vector2d& c, const EvalParams& p) {
+  if (c.norm() > p.max_range_m) return false;
+  const double bearing = std::abs(std::atan2(c.y(), c.x())) * 180.0 / M_PI;
+  return bearing <= p.fov_half_angle_deg;
+}
+
+// Optimal one-to-one matching of true objects to detections by distance to the true footprint,
+// gated; ties inside a footprint are broken by centre distance.
+std::vector<int> match(const std::vector<TruthObject>& truth,
+                       const std::vector<DetectedObject>& dets, double gate) {
+  if (truth.empty() || dets.empty()) return std::vector<int>(truth.size(), -1);
+  Eigen::MatrixXd cost(truth.size(), dets.size());
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      const double d = distanceToFootprint(truth[i], dets[j].center);
+      cost(i, j) = d <= gate ? d + 1e-3 * (truth[i].center - dets[j].center).norm() : kForbiddenCost;
+    }
+  return solveAssignment(cost);
+}
+
+const TruthObject* unscoredObjectAt(const std::vector<TruthObject>& all_truth,
+                                    const DetectedObject& det, const EvalParams& params) {
+  for (const TruthObject& o : all_truth)
+    if (distanceToFootprint(o, det.center) <= params.match_distance_m) return &o;
+  return nullptr;
+}
+
+// Half extents along x and y of the true oriented footprint's axis-aligned bounds.
+Eigen::Vector2d axisAlignedReach(const TruthObject& o) {
+  const Eigen::Vector2d half = 0.5 * o.size.cwiseAbs();
+  const double c = std::abs(std::cos(o.yaw)), s = std::abs(std::sin(o.yaw));
+  return Eigen::Vector2d(c * half.x() + s * half.y(), s * half.x() + c * half.y());
+}
+
+// What a perfect tracker would hand the danger model for a true object, with the frame's ego twist.
+ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame) {
+  ObjectKinematics k;
+  k.ego_velocity = frame.ego_velocity;
+  k.ego_yaw_rate = frame.ego_yaw_rate;
+  const Eigen::Vector2d reach = axisAlignedReach(o);
+  k.center << o.center, 0.0;
+  k.aabb_min << o.center - reach, 0.0;
+  k.aabb_max << o.center + reach, 0.0;
+  if (o.has_velocity) k.velocity << o.velocity, 0.0;
+  return k;
+}
+
+Outcome outcomeOf(bool truly_dangerous, bool predicted) {
+  return truly_dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
+                         : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
+}
+
+void count(Confusion& c, Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kTruePositive: ++c.tp; break;
+    case Outcome::kFalsePositive: ++c.fp; break;
+    case Outcome::kFalseNegative: ++c.fn; break;
+    case Outcome::kTrueNegative: ++c.tn; break;
+    case Outcome::kDontCare: break;
+  }
+}
+
+}  // namespace
+
+const char* toString(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kTruePositive: return "TP";
+    case Outcome::kFalsePositive: return "FP";
+    case Outcome::kFalseNegative: return "FN";
+    case Outcome::kTrueNegative: return "TN";
+    case Outcome::kDontCare: return "DC";
+  }
+  return "?";
+}
+
+double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point) {
+  const Eigen::Vector2d d = point - truth.center;
+  const double c = std::cos(truth.yaw), s = std::sin(truth.yaw);
+  const Eigen::Vector2d local(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
+  const Eigen::Vector2d outside = (local.cwiseAbs() - 0.5 * truth.size.cwiseAbs()).cwiseMax(0.0);
+  return outside.norm();
+}
+
+double Confusion::precision() const { return ratio(tp, tp + fp); }
+double Confusion::recall() const { return ratio(tp, tp + fn); }
+double Confusion::accuracy() const { return ratio(tp + tn, tp + tn + fp + fn); }
+double Confusion::f1() const { return ratio(2.0 * tp, 2.0 * tp + fp + fn); }
+
+EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
+                    std::vector<ScoredRow>* rows) {
+  EvalReport r;
+  r.frames = frames.size();
+  std::vector<double> latencies;
+  std::size_t on_frames = 0;
+  double velocity_sq = 0.0, velocity_sq_settled = 0.0, offset_step_sq = 0.0;
+  // Per true id, its last match: the detection id (id switches) and, while it was matched in the
+  // previous scored frame, the detected centre's offset from the true centre (offset steps).
+  struct LastMatch {
+    std::uint32_t det_id = 0;
+    Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+    bool consecutive = false;
+  };
+  std::map<std::uint32_t, LastMatch> last_match;
+  std::vector<double> near_bias, side_bias, static_speeds;
+  LightControllerParams lamp;
+  lamp.tau_s = params.lamp_tau_s;
+  lamp.recheck_below_s = params.lamp_recheck_below_s;
+  lamp.watchdog_enabled = false;  // frames are given, not awaited
+  LightController truth_lamp(lamp);
+  std::size_t truth_on_frames = 0;
+  DangerHysteresis perfect_hysteresis(params.danger);
+  const bool hysteresis = params.danger.model == DangerModel::kPredictive;
+
+  struct Episode {
+    bool open = false;
+    double entry_t = 0.0;  // corridor entry time predicted at the episode's start
+    double first_on = -1.0;
+  };
+  std::map<std::uint32_t, Episode> episodes;
+  const auto close_episode = [&](Episode& e) {
+    if (!e.open) return;
+    ++r.episodes;
+    if (e.first_on >= 0.0) {
+      ++r.caught;
+      r.lead_times_s.push_back(e.entry_t - e.first_on);
+    }
+    e = Episode();
+  };
+
+  for (const EvalFrame& f : frames) {
+    if (!f.processed) continue;
+    ++r.processed;
+    const bool has_ego = f.ego_motion;
+    on_frames += f.lamp_on;
+    bool any_truly_dangerous = false;
+    for (const TruthObject& o : f.truth) any_truly_dangerous |= o.dangerous;
+    truth_lamp.onInput(f.t, any_truly_dangerous);
+    truth_on_frames += truth_lamp.on();
+    latencies.push_back(f.latency_ms);
+
+    std::vector<TruthObject> truth;
+    for (const TruthObject& o : f.truth)
+      if (o.num_points >= params.min_points && inScope(o.center, params)) truth.push_back(o);
+    std::vector<DetectedObject> dets;
+    for (const DetectedObject& d : f.detections)
+      if (inScope(d.center, params)) dets.push_back(d);
+    const std::vector<int> m = match(truth, dets, params.match_distance_m);
+    std::set<std::uint32_t> flagged_ids;  // true objects flagged (match or fragment) this frame
+    for (const TruthObject& o : truth) {
+      const DangerAssessment a = assessDanger(perfectTrack(o, f), params.danger);
+      const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
+      count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
+    }
+
+    // Detections left over by the one-to-one matching that lie within the match distance of a
+    // true object's footprint are fragments of it (a car's roof scan line, a split wall): they
+    // count for its danger, not as false alarms of their own.
+    std::vector<bool> det_used(dets.size(), false);
+    std::vector<int> flagged_by(truth.size(), -1);  // a dangerous fragment of each true object
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      if (m[i] >= 0) det_used[m[i]] = true;
+    std::vector<int> fragment_of(dets.size(), -1);
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      if (det_used[j]) continue;
+      double nearest = params.match_distance_m;
+      for (std::size_t i = 0; i < truth.size(); ++i) {
+        const double d = distanceToFootprint(truth[i], dets[j].center);
+        if (d <= nearest) {
+          nearest = d;
+          fragment_of[j] = static_cast<int>(i);
+        }
+      }
+      if (fragment_of[j] >= 0 && dets[j].dangerous && flagged_by[fragment_of[j]] < 0)
+        flagged_by[fragment_of[j]] = static_cast<int>(j);
+    }
+
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      const TruthObject& o = truth[i];
+      const bool found = m[i] >= 0;
+      // Detection and tracking.
+      if (found) {
+        ++r.detection.tp;
+        const DetectedObject& d = dets[m[i]];
+        const Eigen::Vector2d offset = d.center - o.center;
+        auto it = last_match.find(o.id);
+        if (it != last_match.end()) {
+          if (it->second.det_id != d.id) {
+            ++r.id_switches;
+          } else if (it->second.consecutive) {
+            offset_step_sq += (offset - it->second.offset).squaredNorm();
+            ++r.offset_steps;
+          }
+        }
+        last_match[o.id] = LastMatch{d.id, offset, true};
+        if (d.has_aabb) {
+          const Eigen::Vector2d reach = axisAlignedReach(o);
+          const Eigen::Vector2d tmin = o.center - reach, tmax = o.center + reach;
+          near_bias.push_back(o.center.x() >= 0.0 ? d.aabb_min.x() - tmin.x()
+                                                  : tmax.x() - d.aabb_max.x());
+          side_bias.push_back(d.aabb_min.y() - tmin.y());
+          side_bias.push_back(tmax.y() - d.aabb_max.y());
+        }
+        if (o.has_velocity && d.age >= params.settled_age && has_ego) {
+          const Eigen::Vector2d frame_velocity =
+              f.ego_velocity + f.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
+          if ((o.velocity + frame_velocity).norm() < params.static_speed_mps)
+            static_speeds.push_back(d.velocity_over_ground.norm());
+        }
+        if (o.has_velocity) {
+          const double e2 = (d.velocity - o.velocity).squaredNorm();
+          velocity_sq += e2;
+          ++r.velocity_samples;
+          if (d.age >= params.settled_age) {
+            velocity_sq_settled += e2;
+            ++r.velocity_samples_settled;
+          }
+        }
+      } else {
+        ++r.detection.fn;
+        auto it = last_match.find(o.id);
+        if (it != last_match.end()) it->second.consecutive = false;  // steps need consecutive matches
+      }
+      // Danger per object-frame: its detection or one of its fragments flagged.
+      const bool by_match = found && dets[m[i]].dangerous;
+      const bool predicted = by_match || flagged_by[i] >= 0;
+      if (predicted) flagged_ids.insert(o.id);
+      const Outcome outcome = outcomeOf(o.dangerous, predicted);
+      count(r.danger, outcome);
+      if (rows) {
+        ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};
+        const int j = by_match || !predicted ? m[i] : flagged_by[i];
+        if (j >= 0) {
+          row.has_detection = true;
+          row.fragment = j != m[i];
+          row.detection = dets[j];
+        }
+        rows->push_back(row);
+      }
+    }
+    for (std::size_t j = 0; j < dets.size(); ++j) {
+      if (det_used[j]) continue;
+      // On a true object that is not scored (too few returns, just out of range or view): not
+      // scored either, as KITTI's DontCare.
+      const TruthObject* unscored =
+          fragment_of[j] < 0 ? unscoredObjectAt(f.truth, dets[j], params) : nullptr;
+      if (unscored) {
+        if (rows && dets[j].dangerous)
+          rows->push_back(ScoredRow{f.t, Outcome::kDontCare, true, *unscored, true, false, dets[j]});
+        continue;
+      }
+      ++r.detection.fp;
+      if (dets[j].dangerous && fragment_of[j] < 0) {
+        ++r.danger.fp;
+        ++r.false_alarms_unmatched;
+        if (rows) {
+          rows->push_back(
+              ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j]});
+        }
+      }
+    }
+
+    // Episodes over all true objects with a label (seen or not: a danger nobody saw is missed).
+    for (const TruthObject& o : f.truth) {
+      Episode& e = episodes[o.id];
+      if (o.dangerous && !e.open) {
+        e.open = true;
+        e.entry_t = f.t + std::max(0.0, o.time_to_corridor);
+      }
+      if (!o.dangerous) close_episode(e);
+      // Caught: the lamp on because of this object (its detection or a fragment flagged), not the
+      // lamp on for any reason (another object, the watchdog) while it happened to be dangerous.
+      if (e.open && f.lamp_on && flagged_ids.count(o.id) && e.first_on < 0.0) e.first_on = f.t;
+    }
+    for (auto& kv : episodes) {  // ids absent from this frame end their episode
+      bool present = false;
+      for (const TruthObject& o : f.truth) present |= o.id == kv.first;
+      if (!present) close_episode(kv.second);
+    }
+  }
+  for (auto& kv : episodes) close_episode(kv.second);
+
+  r.velocity_rmse = r.velocity_samples ? std::sqrt(velocity_sq / r.velocity_samples) : 0.0;
+  r.velocity_rmse_settled =
+      r.velocity_samples_settled ? std::sqrt(velocity_sq_settled / r.velocity_samples_settled) : 0.0;
+  r.offset_step_rms_m = r.offset_steps ? std::sqrt(offset_step_sq / r.offset_steps) : 0.0;
+  r.box_bias_near_m = percentile(near_bias, 0.5);
+  r.box_bias_side_m = percentile(side_bias, 0.5);
+  r.box_bias_samples = near_bias.size();
+  r.static_speed_p50_mps = percentile(static_speeds, 0.5);
+  r.static_speed_p90_mps = percentile(static_speeds, 0.9);
+  r.static_speed_samples = static_speeds.size();
+  r.latency_p50_ms = percentile(latencies, 0.50);
+  r.latency_p90_ms = percentile(latencies, 0.90);
+  r.latency_p99_ms = percentile(latencies, 0.99);
+  r.latency_max_ms = percentile(latencies, 1.0);
+  r.duty_cycle = ratio(on_frames, r.processed);
+  r.truth_duty_cycle = ratio(truth_on_frames, r.processed);
+  return r;
+}
+
+std::string toTable(const EvalReport& r, const std::string& title) {
+  char buf[2048];
+  const double lead_min = r.lead_times_s.empty() ? 0.0 : *std::min_element(r.lead_times_s.begin(), r.lead_times_s.end());
+  const double lead_p50 = percentile(r.lead_times_s, 0.5);
+  std::snprintf(buf, sizeof(buf),
+      "== %s ==\n"
+      "frames %zu (processed %zu)\n"
+      "danger per object-frame: TP %llu FP %llu FN %llu TN %llu (false alarms without a true object: %llu)\n"
+      "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
+      "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
+      "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
+      "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
+      "  true box beyond the detected one (median): near face %.3f m, sides %.3f m (n %zu)\n"
+      "  speed over ground of static objects' settled tracks: p50 %.2f  p90 %.2f m/s (n %zu)\n"
+      "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
+      "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n"
+      "danger model on perfect tracks: TP %llu FP %llu FN %llu TN %llu, precision %.2f %%  recall %.2f %%\n",
+      title.c_str(), r.frames, r.processed,
+      static_cast<unsigned long long>(r.danger.tp), static_cast<unsigned long long>(r.danger.fp),
+      static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
+      static_cast<unsigned long long>(r.false_alarms_unmatched),
+      100 * r.danger.precision(), 100 * r.danger.recall(), 100 * r.danger.accuracy(), 100 * r.danger.f1(),
+      r.caught, r.episodes, lead_p50, lead_min,
+      100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
+      r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
+      r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples,
+      r.static_speed_p50_mps, r.static_speed_p90_mps, r.static_speed_samples, r.latency_p50_ms,
+      r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
+      100 * r.duty_cycle, 100 * r.truth_duty_cycle,
+      static_cast<unsigned long long>(r.perfect_tracks.tp),
+      static_cast<unsigned long long>(r.perfect_tracks.fp),
+      static_cast<unsigned long long>(r.perfect_tracks.fn),
+      static_cast<unsigned long long>(r.perfect_tracks.tn), 100 * r.perfect_tracks.precision(),
+      100 * r.perfect_tracks.recall());
+  return buf;
+}
+
+std::string toJson(const EvalReport& r, const std::string& name) {
+  std::ostringstream j;
+  const auto conf = [&](const char* key, const Confusion& c) {
+    j << "\"" << key << "\": {\"tp\": " << c.tp << ", \"fp\": " << c.fp << ", \"fn\": " << c.fn
+      << ", \"tn\": " << c.tn << ", \"precision\": " << c.precision() << ", \"recall\": "
+      << c.recall() << ", \"accuracy\": " << c.accuracy() << ", \"f1\": " << c.f1() << "}";
+  };
+  j << "{\"name\": \"" << name << "\", \"frames\": " << r.frames << ", \"processed\": " << r.processed << ", ";
+  conf("danger", r.danger);
+  j << ", \"false_alarms_unmatched\": " << r.false_alarms_unmatched;
+  j << ", \"episodes\": " << r.episodes << ", \"caught\": " << r.caught << ", \"lead_times_s\": [";
+  for (std::size_t i = 0; i < r.lead_times_s.size(); ++i) j << (i ? ", " : "") << r.lead_times_s[i];
+  j << "], ";
+  conf("detection", r.detection);
+  j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
+    << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
+    << ", \"offset_step_rms_m\": " << r.offset_step_rms_m
+    << ", \"box_bias_near_m\": " << r.box_bias_near_m
+    << ", \"box_bias_side_m\": " << r.box_bias_side_m
+    << ", \"static_speed_mps\": {\"p50\": " << r.static_speed_p50_mps << ", \"p90\": "
+    << r.static_speed_p90_mps << ", \"n\": " << r.static_speed_samples << "}"
+    << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
+    << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
+    << ", \"duty_cycle\": " << r.duty_cycle
+    << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << ", ";
+  conf("perfect_tracks", r.perfect_tracks);
+  j << "}";
+  return j.str();
+}
+
+std::string toCsv(const std::vector<ScoredRow>& rows) {
+  std::ostringstream c;
+  c << "t,outcome,truth_id,truth_type,truth_x,truth_y,truth_length,truth_width,truth_yaw,"
+       "truth_vx,truth_vy,truth_ttc_s,"
+       "det_id,det_fragment,det_dangerous,det_x,det_y,det_vx,det_vy,det_vx_std,det_vy_std,"
+       "det_x_min,det_x_max,det_y_min,det_y_max,det_age\n";
+  char buf[512];
+  for (const ScoredRow& row : rows) {
+    std::snprintf(buf, sizeof(buf), "%.3f,%s,", row.t, toString(row.outcome));
+    c << buf;
+    if (row.has_truth) {
+      const TruthObject& o = row.truth;
+      std::snprintf(buf, sizeof(buf), "%u,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.3f,%.3f,%.2f,", o.id,
+                    o.type.c_str(), o.center.x(), o.center.y(), o.size.x(), o.size.y(), o.yaw,
+                    o.velocity.x(), o.velocity.y(), o.time_to_corridor);
+      c << buf;
+    } else {
+      c << ",,,,,,,,,,";
+    }
+    if (row.has_detection) {
+      const DetectedObject& d = row.detection;
+      std::snprintf(buf, sizeof(buf),
+                    "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n", d.id,
+                    row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
+                    d.velocity.x(), d.velocity.y(), d.velocity_std.x(), d.velocity_std.y(),
+                    d.aabb_min.x(), d.aabb_max.x(), d.aabb_min.y(), d.aabb_max.y(), d.age);
+      c << buf;
+    } else {
+      c << ",,,,,,,,,,,,,\n";
+    }
+  }
+  return c.str();
+}
+
+}  // namespace icanc

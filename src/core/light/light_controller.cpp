@@ -1,0 +1,104 @@
+#include "icanc/core/light/light_controller.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+namespace icanc {
+
+std::string validate(const LightControllerParams& params) {
+  std::ostringstream why;
+  if (!(params.tau_s > 0.0 && params.tau_s <= 60.0))
+    why << "light.tau_s must be in (0, 60] s (got " << params.tau_s << ")";
+  else if (!(params.recheck_below_s >= 0.0 && params.recheck_below_s <= params.tau_s))
+    why << "light.recheck_below_s must be in [0, tau_s = " << params.tau_s << "] (got "
+        << params.recheck_below_s << ")";
+  else if (!(params.stale_timeout_s > 0.0 && params.stale_timeout_s <= kMaxStaleTimeoutS))
+    why << "light.stale_timeout_s must be in (0, " << kMaxStaleTimeoutS << "] s; to run without "
+        << "the watchdog set watchdog_enabled: false (got " << params.stale_timeout_s << ")";
+  else if (!(params.illumination_stale_timeout_s > 0.0))
+    why << "light.illumination/stale_timeout_s must be > 0 (got "
+        << params.illumination_stale_timeout_s << ")";
+  return why.str();
+}
+
+const char* toString(LightReason reason) {
+  switch (reason) {
+    case LightReason::kOff: return "off";
+    case LightReason::kDanger: return "danger";
+    case LightReason::kSensorStale: return "sensor stale";
+    case LightReason::kDaylight: return "daylight";
+    case LightReason::kSensorBlind: return "sensor blind";
+    case LightReason::kFault: return "fault";
+  }
+  return "unknown";
+}
+
+LightController::LightController(const LightControllerParams& params) : params_(params) {}
+
+void LightController::reset() {
+  timer_running_ = false;
+  has_input_ = false;
+  stale_ = true;
+  blind_ = false;
+  illumination_ = Illumination::kUnknown;
+  daylight_ = false;
+}
+
+void LightController::updateDaylight(double now) {
+  daylight_ = params_.illumination_enabled && illumination_ == Illumination::kBright &&
+              now - illumination_s_ <= params_.illumination_stale_timeout_s + 1e-9;
+  if (daylight_) timer_running_ = false;  // no danger lamp in daylight
+}
+
+bool LightController::tick(double now) {
+  const bool was_on = on();
+  const LightReason was_reason = reason();
+  if (has_now_ && now < last_now_s_) reset();  // bag loop: start over, fail-safe on
+  has_now_ = true;
+  last_now_s_ = now;
+
+  if (timer_running_ && now >= timer_end_s_ - 1e-9) timer_running_ = false;
+  // 1 ns of slack: stamps in seconds as doubles (1.3 - 1.0 > 0.3).
+  stale_ = !has_input_ || (params_.watchdog_enabled &&
+                           now - last_input_s_ > params_.stale_timeout_s + 1e-9);
+  updateDaylight(now);
+  return was_on != on() || was_reason != reason();
+}
+
+bool LightController::onIllumination(double now, Illumination state) {
+  const bool was_on = on();
+  const LightReason was_reason = reason();
+  tick(now);
+  illumination_ = state;
+  illumination_s_ = now;
+  updateDaylight(now);
+  return was_on != on() || was_reason != reason();
+}
+
+bool LightController::onInput(double now, bool any_danger, bool sensor_blind) {
+  tick(now);
+  has_input_ = true;
+  last_input_s_ = now;
+  stale_ = false;
+  blind_ = sensor_blind;
+  if (!any_danger || daylight_) return false;
+  if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + 1e-9) return false;  // ignored
+  timer_running_ = true;
+  timer_end_s_ = now + params_.tau_s;
+  last_trigger_s_ = now;
+  return true;
+}
+
+LightReason LightController::reason() const {
+  if (stale_) return LightReason::kSensorStale;
+  if (blind_) return LightReason::kSensorBlind;
+  if (daylight_) return LightReason::kDaylight;
+  if (timer_running_) return LightReason::kDanger;
+  return LightReason::kOff;
+}
+
+double LightController::timeLeft(double now) const {
+  return timer_running_ ? std::max(0.0, timer_end_s_ - now) : 0.0;
+}
+
+}  // namespace icanc

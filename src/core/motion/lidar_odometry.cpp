@@ -1,0 +1,478 @@
+#include "icanc/core/motion/lidar_odometry.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+
+namespace icanc {
+
+double odometryNowMs() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string validate(const LidarOdometryParams& p) {
+  std::ostringstream why;
+  const auto positive = [&](const char* key, double v) {
+    if (why.tellp() == 0 && !(v > 0.0 && std::isfinite(v)))
+      why << key << " must be > 0 (got " << v << ")";
+  };
+  positive("voxel_m", p.voxel_m);
+  positive("max_range_m", p.max_range_m);
+  positive("convergence_eps", p.convergence_eps);
+  positive("initial_threshold_m", p.initial_threshold_m);
+  positive("map_voxel_factor", p.map_voxel_factor);
+  positive("registration_voxel_factor", p.registration_voxel_factor);
+  positive("max_correction_m", p.max_correction_m);
+  positive("max_dt_s", p.max_dt_s);
+  if (!why.str().empty()) return why.str();
+  if (!(p.min_range_m >= 0.0 && p.min_range_m < p.max_range_m))
+    return "min_range_m must be in [0, max_range_m)";
+  if (p.max_range_m / p.voxel_m > 1e5) return "max_range_m / voxel_m must be <= 1e5";
+  if (p.max_points_per_voxel < 1 || p.max_points_per_voxel > kMaxPointsPerVoxel)
+    return "max_points_per_voxel must be in [1, " + std::to_string(kMaxPointsPerVoxel) + "]";
+  if (p.input_stride < 1 || p.input_stride > 16) return "input_stride must be in [1, 16]";
+  if (p.max_iterations < 1) return "max_iterations must be >= 1";
+  if (!(p.min_motion_m >= 0.0)) return "min_motion_m must be >= 0";
+  if (p.max_registration_points < 10) return "max_registration_points must be >= 10";
+  if (p.min_points < 6) return "min_points must be >= 6 (six unknowns)";
+  if (p.min_points > p.max_registration_points)
+    return "min_points must be <= max_registration_points";
+  if (!(p.ground_share >= 0.0 && p.ground_share <= 1.0)) return "ground_share must be in [0, 1]";
+  if (!std::isfinite(p.ground_max_z_m)) return "ground_max_z_m must be finite";
+  if (!(p.min_correspondence_ratio >= 0.0 && p.min_correspondence_ratio <= 1.0))
+    return "min_correspondence_ratio must be in [0, 1]";
+  return "";
+}
+
+const char* toString(LidarOdometryStats::Result result) {
+  switch (result) {
+    case LidarOdometryStats::Result::kFirstFrame:
+      return "first frame";
+    case LidarOdometryStats::Result::kRegistered:
+      return "registered";
+    case LidarOdometryStats::Result::kDegenerate:
+      return "degenerate (motion prior)";
+    case LidarOdometryStats::Result::kExtrapolated:
+      return "too few points (motion prior)";
+    case LidarOdometryStats::Result::kReset:
+      return "reset (time went backwards)";
+  }
+  return "?";
+}
+
+// --- VoxelIndex ----------------------------------------------------------------------------------
+
+VoxelIndex::VoxelIndex() : slots_(4096, Slot{0, 0, 0}), shift_(64 - 12) {}
+
+void VoxelIndex::clear() {
+  size_ = 0;
+  if (++generation_ == 0) {  // wrapped: old generations could look current
+    for (Slot& s : slots_) s.generation = 0;
+    generation_ = 1;
+  }
+}
+
+void VoxelIndex::grow() {
+  std::vector<Slot> old(slots_.size() * 2, Slot{0, 0, 0});
+  old.swap(slots_);
+  --shift_;
+  const std::size_t mask = slots_.size() - 1;
+  for (const Slot& s : old) {
+    if (s.generation != generation_) continue;
+    std::size_t i = slotOf(s.key);
+    while (slots_[i].generation == generation_) i = (i + 1) & mask;
+    slots_[i] = s;
+  }
+}
+
+std::int32_t& VoxelIndex::findOrInsert(std::uint64_t key, std::int32_t value_if_new,
+                                       bool& inserted) {
+  if (size_ * 2 >= slots_.size()) grow();  // load <= 1/2: short probes
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t i = slotOf(key);; i = (i + 1) & mask) {
+    Slot& s = slots_[i];
+    if (s.generation != generation_) {
+      s = Slot{key, value_if_new, generation_};
+      ++size_;
+      inserted = true;
+      return s.value;
+    }
+    if (s.key == key) {
+      inserted = false;
+      return s.value;
+    }
+  }
+}
+
+std::int32_t VoxelIndex::find(std::uint64_t key) const {
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t i = slotOf(key);; i = (i + 1) & mask) {
+    const Slot& s = slots_[i];
+    if (s.generation != generation_) return -1;
+    if (s.key == key) return s.value;
+  }
+}
+
+// --- LidarOdometry -------------------------------------------------------------------------------
+
+LidarOdometry::LidarOdometry(const LidarOdometryParams& params) : params_(params) {
+  const std::string why = validate(params);
+  if (!why.empty()) throw std::invalid_argument("LidarOdometryParams: " + why);
+  min_range2_ = static_cast<float>(params.min_range_m * params.min_range_m);
+  max_range2_ = static_cast<float>(params.max_range_m * params.max_range_m);
+  inv_frame_voxel_ = static_cast<float>(1.0 / (params.voxel_m * params.map_voxel_factor));
+  inv_map_voxel_ = static_cast<float>(1.0 / params.voxel_m);
+  stride_ = params.input_stride;
+}
+
+void LidarOdometry::reset() {
+  initialized_ = false;
+  pose_.setIdentity();
+  last_delta_.setIdentity();
+  last_delta_dt_ = 0.0;
+  linear_velocity_.setZero();
+  angular_velocity_.setZero();
+  deviation_sse_ = 0.0;
+  deviation_samples_ = 0;
+  map_index_.clear();
+  map_keys_.clear();
+  map_counts_.clear();
+  map_points_data_.clear();
+  map_points_ = 0;
+  last_prune_origin_.setZero();
+}
+
+Eigen::Isometry3d LidarOdometry::registerFrame(double stamp_s,
+                                               const std::vector<Eigen::Vector3f>& points) {
+  return registerFrom(stamp_s, [&](auto&& sink) {
+    for (const Eigen::Vector3f& p : points) sink(p.x(), p.y(), p.z());
+  });
+}
+
+void LidarOdometry::beginFrame() {
+  input_points_ = 0;
+  last_key_ = ~0ull;
+  stride_count_ = stride_ - 1;  // the first point is read
+  frame_set_.clear();
+  frame_.clear();
+}
+
+void LidarOdometry::addFramePoint(std::uint64_t key, float x, float y, float z) {
+  bool inserted;
+  frame_set_.findOrInsert(key, 0, inserted);
+  if (inserted) frame_.emplace_back(x, y, z);
+}
+
+namespace {
+// `n` of `from` (n <= size), evenly over the scan order so that every direction keeps points,
+// appended to `to`.
+void appendThinned(const std::vector<Eigen::Vector3f>& from, std::size_t n,
+                   std::vector<Eigen::Vector3f>& to) {
+  for (std::size_t i = 0; i < n; ++i) to.push_back(from[i * from.size() / n]);
+}
+}  // namespace
+
+void LidarOdometry::selectRegistrationPoints() {
+  registration_set_.clear();
+  candidates_.clear();
+  ground_.clear();
+  const float inv = static_cast<float>(1.0 / (params_.voxel_m * params_.registration_voxel_factor));
+  const float ground_z = static_cast<float>(params_.ground_max_z_m);
+  for (const Eigen::Vector3f& p : frame_) {
+    bool inserted;
+    registration_set_.findOrInsert(keyOf(p.x(), p.y(), p.z(), inv), 0, inserted);
+    if (inserted) (p.z() < ground_z ? ground_ : candidates_).push_back(p);
+  }
+  const std::size_t cap = static_cast<std::size_t>(params_.max_registration_points);
+  const std::size_t ground_cap = static_cast<std::size_t>(params_.ground_share * cap);
+  // The ground fills its share, and what the rest of the scene leaves free.
+  const std::size_t n_ground =
+      std::min(ground_.size(), std::max(ground_cap, cap - std::min(cap, candidates_.size())));
+  const std::size_t n_rest = std::min(candidates_.size(), cap - n_ground);
+  registration_.clear();
+  appendThinned(candidates_, n_rest, registration_);
+  appendThinned(ground_, n_ground, registration_);
+}
+
+Eigen::Isometry3d LidarOdometry::predict(double dt) const {
+  if (last_delta_dt_ <= 0.0 || dt <= 0.0) return pose_;
+  const double s = dt / last_delta_dt_;
+  const Eigen::AngleAxisd rotation(last_delta_.rotation());
+  Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+  delta.linear() = Eigen::AngleAxisd(rotation.angle() * s, rotation.axis()).toRotationMatrix();
+  delta.translation() = last_delta_.translation() * s;
+  return pose_ * delta;
+}
+
+double LidarOdometry::adaptiveThreshold() const {
+  return deviation_samples_ == 0 ? params_.initial_threshold_m
+                                 : std::sqrt(deviation_sse_ / deviation_samples_);
+}
+
+bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
+                                 Eigen::Isometry3d& result) {
+  const float max_d2 = static_cast<float>(9.0 * sigma * sigma);  // 3 sigma
+  const double kernel = sigma / 3.0;
+  const double kernel2 = kernel * kernel;
+  const int per_voxel = params_.max_points_per_voxel;
+  const float inv = inv_map_voxel_;
+  const std::size_t n = registration_.size();
+  neighbourhoods_.resize(n);
+  for (Neighbourhood& nb : neighbourhoods_) nb.block = ~0ull;
+
+  Eigen::Matrix3d rotation = guess.rotation();
+  Eigen::Vector3d translation = guess.translation();
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+  double weight_sum = 0.0;
+  std::size_t matched = 0;
+  int iteration = 0;
+  while (iteration < params_.max_iterations) {
+    ++iteration;
+    const Eigen::Matrix3f r = rotation.cast<float>();
+    const Eigen::Vector3f t = translation.cast<float>();
+    // Normal equations of J = [I, -[a]x] (a = R p, the point about the sensor origin, so that
+    // the rotation is about the vehicle, not about a far-away odom origin), accumulated as the
+    // few sums they are made of.
+    double sw = 0.0, swa2 = 0.0;
+    Eigen::Vector3d swa = Eigen::Vector3d::Zero(), swr = Eigen::Vector3d::Zero(),
+                    swaxr = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d swaa = Eigen::Matrix3d::Zero();
+    matched = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3f a = r * registration_[i];
+      const Eigen::Vector3f s = a + t;
+      // The 2 x 2 x 2 block of voxels nearest to s: on each axis its voxel and the neighbour on
+      // the side of the voxel's half it lies in.
+      std::int32_t base[3];
+      for (int k = 0; k < 3; ++k) {
+        const float v = s[k] * inv;
+        const std::int32_t f = floorToInt(v);
+        base[k] = f - (v - static_cast<float>(f) < 0.5f ? 1 : 0);
+      }
+      Neighbourhood& nb = neighbourhoods_[i];
+      const std::uint64_t block = packKey(base[0], base[1], base[2]);
+      if (block != nb.block) {
+        nb.block = block;
+        for (int c = 0; c < 8; ++c)
+          nb.voxels[c] = map_index_.find(
+              packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
+      }
+      float best = max_d2;
+      const Eigen::Vector3f* nearest = nullptr;
+      for (int c = 0; c < 8; ++c) {
+        const std::int32_t slot = nb.voxels[c];
+        if (slot < 0) continue;
+        const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
+        for (int j = 0, m = map_counts_[slot]; j < m; ++j) {
+          const float d2 = (q[j] - s).squaredNorm();
+          if (d2 < best) {
+            best = d2;
+            nearest = &q[j];
+          }
+        }
+      }
+      if (!nearest) continue;
+      ++matched;
+      const Eigen::Vector3d ad = a.cast<double>();
+      const Eigen::Vector3d res = (s - *nearest).cast<double>();
+      const double w = kernel2 / ((kernel + best) * (kernel + best));  // Geman-McClure
+      sw += w;
+      swa += w * ad;
+      swa2 += w * ad.squaredNorm();
+      swaa += w * ad * ad.transpose();
+      swr += w * res;
+      swaxr += w * ad.cross(res);
+    }
+    if (matched < 6) break;
+    Eigen::Matrix3d skew;
+    skew << 0, -swa.z(), swa.y(), swa.z(), 0, -swa.x(), -swa.y(), swa.x(), 0;
+    hessian.topLeftCorner<3, 3>() = sw * Eigen::Matrix3d::Identity();
+    hessian.topRightCorner<3, 3>() = -skew;
+    hessian.bottomLeftCorner<3, 3>() = skew;
+    hessian.bottomRightCorner<3, 3>() = swa2 * Eigen::Matrix3d::Identity() - swaa;
+    weight_sum = sw;
+    Eigen::Matrix<double, 6, 1> gradient;
+    gradient << swr, swaxr;
+    const Eigen::Matrix<double, 6, 1> dx = hessian.ldlt().solve(-gradient);
+    if (!dx.allFinite()) break;
+    translation += dx.head<3>();
+    const double angle = dx.tail<3>().norm();
+    if (angle > 0.0)
+      rotation = Eigen::AngleAxisd(angle, dx.tail<3>() / angle).toRotationMatrix() * rotation;
+    if (dx.norm() < params_.convergence_eps) break;
+  }
+  stats_.iterations = iteration;
+  stats_.correspondences = matched;
+  result.setIdentity();
+  result.linear() = Eigen::Quaterniond(rotation).normalized().toRotationMatrix();
+  result.translation() = translation;
+  // Degenerate: too few matches, a rotation the points cannot observe (all on one line: the
+  // smallest eigenvalue of the information, per unit weight, near zero), or a correction of the
+  // prior no real vehicle makes in one frame.
+  if (matched < 6 || static_cast<double>(matched) < params_.min_correspondence_ratio * n)
+    return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian,
+                                                                       Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues()(0) > 1e-3 * weight_sum)) return false;
+  if ((result.translation() - guess.translation()).norm() > params_.max_correction_m) return false;
+  return result.matrix().allFinite();
+}
+
+void LidarOdometry::updateMap(const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3f r = pose.rotation().cast<float>();
+  const Eigen::Vector3f t = pose.translation().cast<float>();
+  const int per_voxel = params_.max_points_per_voxel;
+  std::uint64_t last_key = ~0ull;
+  std::int32_t last_slot = -1;
+  for (const Eigen::Vector3f& p : frame_) {
+    const Eigen::Vector3f q = r * p + t;
+    const std::uint64_t key = keyOf(q.x(), q.y(), q.z(), inv_map_voxel_);
+    std::int32_t slot = last_slot;
+    if (key != last_key) {  // scan order: consecutive points often share a map voxel
+      bool inserted;
+      slot = map_index_.findOrInsert(key, static_cast<std::int32_t>(map_keys_.size()), inserted);
+      if (inserted) {
+        map_keys_.push_back(key);
+        map_counts_.push_back(0);
+        map_points_data_.resize(map_points_data_.size() + per_voxel);
+      }
+      last_key = key;
+      last_slot = slot;
+    }
+    std::uint8_t& count = map_counts_[slot];
+    if (count < per_voxel) {
+      map_points_data_[static_cast<std::size_t>(slot) * per_voxel + count++] = q;
+      ++map_points_;
+    }
+  }
+}
+
+void LidarOdometry::pruneMap(const Eigen::Vector3d& origin) {
+  // Compacting the map and rebuilding its index costs about as much as one frame's insertion:
+  // done when the vehicle has moved 5 % of max_range_m, not every frame. Until then voxels at
+  // most that much beyond max_range_m stay, which no registration point reaches anyway.
+  if ((origin - last_prune_origin_).norm() < 0.05 * params_.max_range_m) return;
+  last_prune_origin_ = origin;
+  const int per_voxel = params_.max_points_per_voxel;
+  const Eigen::Vector3f o = origin.cast<float>();
+  const float limit2 = max_range2_;
+  std::size_t kept = 0;
+  map_points_ = 0;
+  map_index_.clear();
+  for (std::size_t s = 0; s < map_keys_.size(); ++s) {
+    const Eigen::Vector3f* q = &map_points_data_[s * per_voxel];
+    if ((q[0] - o).squaredNorm() > limit2) continue;
+    if (kept != s) {
+      map_keys_[kept] = map_keys_[s];
+      map_counts_[kept] = map_counts_[s];
+      std::copy(q, q + per_voxel, &map_points_data_[kept * per_voxel]);
+    }
+    bool inserted;
+    map_index_.findOrInsert(map_keys_[kept], static_cast<std::int32_t>(kept), inserted);
+    map_points_ += map_counts_[kept];
+    ++kept;
+  }
+  map_keys_.resize(kept);
+  map_counts_.resize(kept);
+  map_points_data_.resize(kept * per_voxel);
+}
+
+std::vector<Eigen::Vector3f> LidarOdometry::mapCloud() const {
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(map_points_);
+  const int per_voxel = params_.max_points_per_voxel;
+  for (std::size_t s = 0; s < map_keys_.size(); ++s)
+    for (int j = 0; j < map_counts_[s]; ++j) out.push_back(map_points_data_[s * per_voxel + j]);
+  return out;
+}
+
+Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_start_ms) {
+  ++counters_.frames;
+  stats_ = LidarOdometryStats();
+  stats_.input_points = input_points_;
+  stats_.frame_points = frame_.size();
+  stats_.result = LidarOdometryStats::Result::kFirstFrame;
+  if (initialized_ && stamp_s < last_stamp_s_) {  // bag loop, restarted driver: start over
+    reset();
+    ++counters_.resets;
+    stats_.result = LidarOdometryStats::Result::kReset;
+  }
+  const double dt = initialized_ ? stamp_s - last_stamp_s_ : 0.0;
+  if (dt > params_.max_dt_s) {  // the last motion says nothing about this one
+    ++counters_.gaps;
+    last_delta_dt_ = 0.0;
+  }
+  selectRegistrationPoints();
+  stats_.registration_points = registration_.size();
+  const double t1 = odometryNowMs();
+  stats_.downsample_ms = t1 - downsample_start_ms;
+  stats_.threshold_m = adaptiveThreshold();
+  const bool enough = registration_.size() >= static_cast<std::size_t>(params_.min_points);
+
+  if (!initialized_) {
+    if (enough) {
+      updateMap(pose_);
+      initialized_ = true;
+      last_stamp_s_ = stamp_s;
+      last_prune_origin_ = pose_.translation();
+    } else {
+      ++counters_.extrapolated;
+      stats_.result = LidarOdometryStats::Result::kExtrapolated;
+    }
+    stats_.map_points = map_points_;
+    stats_.map_ms = odometryNowMs() - t1;
+    return pose_;
+  }
+
+  const Eigen::Isometry3d prediction = predict(dt);
+  Eigen::Isometry3d estimate = prediction;
+  if (!enough || map_points_ == 0) {
+    ++counters_.extrapolated;
+    stats_.result = LidarOdometryStats::Result::kExtrapolated;
+    pose_ = prediction;  // velocity and prior unchanged: the next frame continues the motion
+    last_stamp_s_ = stamp_s;
+    stats_.map_points = map_points_;
+    return pose_;
+  }
+  if (registerScan(prediction, stats_.threshold_m, estimate)) {
+    ++counters_.registered;
+    stats_.result = LidarOdometryStats::Result::kRegistered;
+    const Eigen::Isometry3d deviation = prediction.inverse() * estimate;
+    const double theta = Eigen::AngleAxisd(deviation.rotation()).angle();
+    const double error =
+        deviation.translation().norm() + 2.0 * params_.max_range_m * std::sin(0.5 * theta);
+    if (error > params_.min_motion_m) {
+      deviation_sse_ += error * error;
+      ++deviation_samples_;
+    }
+  } else {
+    ++counters_.degenerate;
+    stats_.result = LidarOdometryStats::Result::kDegenerate;
+    estimate = prediction;
+  }
+  const double t2 = odometryNowMs();
+  stats_.register_ms = t2 - t1;
+
+  if (dt > 0.0) {
+    const Eigen::Isometry3d delta = pose_.inverse() * estimate;
+    const Eigen::AngleAxisd turn(delta.rotation());
+    linear_velocity_ = delta.translation() / dt;
+    angular_velocity_ = turn.axis() * (turn.angle() / dt);
+    last_delta_ = delta;
+    last_delta_dt_ = dt;
+  }
+  pose_ = estimate;
+  last_stamp_s_ = stamp_s;
+  updateMap(pose_);
+  pruneMap(pose_.translation());
+  stats_.map_points = map_points_;
+  stats_.map_ms = odometryNowMs() - t2;
+  return pose_;
+}
+
+}  // namespace icanc

@@ -1,0 +1,156 @@
+#include "icanc/core/perception/box.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icanc {
+
+Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices, float footprint_cell_m) {
+  const std::size_t n = indices ? indices->size() : cloud.size();
+  if (n == 0) return Box3D();
+  const float inf = std::numeric_limits<float>::infinity();
+  float zmin = inf, zmax = -inf;
+  std::vector<cv::Point2f> xy;
+  xy.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Point& p = cloud[indices ? static_cast<std::size_t>((*indices)[k]) : k];
+    zmin = std::min(zmin, p.z);
+    zmax = std::max(zmax, p.z);
+    xy.emplace_back(p.x, p.y);
+  }
+  return fitBoxFootprint(xy, zmin, zmax, static_cast<int>(n), footprint_cell_m);
+}
+
+std::vector<FootprintCell> footprintCells(const std::vector<cv::Point2f>& xy, float cell_m) {
+  std::vector<FootprintCell> cells;
+  if (xy.empty() || !(cell_m > 0.0f)) return cells;
+  const float inv = 1.0f / cell_m;
+  // A dense grid over the points' own cells when it is small against the points (every cluster a
+  // detector makes): linear, no sort. Cells come out ordered by x cell, then y cell, as below.
+  // Non-finite points are skipped.
+  const auto finite = [](const cv::Point2f& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
+  const float inf = std::numeric_limits<float>::infinity();
+  float xmin = inf, xmax = -inf, ymin = inf, ymax = -inf;
+  std::size_t n = 0;
+  for (const cv::Point2f& p : xy) {
+    if (!finite(p)) continue;
+    ++n;
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  if (n == 0) return cells;
+  const double kx0 = std::floor(xmin * inv), ky0 = std::floor(ymin * inv);
+  const double nx = std::floor(xmax * inv) - kx0 + 1.0, ny = std::floor(ymax * inv) - ky0 + 1.0;
+  if (nx * ny <= 4.0 * static_cast<double>(n) + 64.0) {
+    const int w = static_cast<int>(nx), h = static_cast<int>(ny);
+    std::vector<FootprintCell> grid(static_cast<std::size_t>(w) * h);
+    std::vector<char> used(grid.size(), 0);
+    for (const cv::Point2f& p : xy) {
+      if (!finite(p)) continue;
+      const int ix = std::min(w - 1, std::max(0, static_cast<int>(std::floor(p.x * inv) - kx0)));
+      const int iy = std::min(h - 1, std::max(0, static_cast<int>(std::floor(p.y * inv) - ky0)));
+      const std::size_t k = static_cast<std::size_t>(ix) * h + iy;
+      const Eigen::Vector2f q(p.x, p.y);
+      if (!used[k]) {
+        grid[k] = {q, q};
+        used[k] = 1;
+      } else {
+        grid[k].min = grid[k].min.cwiseMin(q);
+        grid[k].max = grid[k].max.cwiseMax(q);
+      }
+    }
+    for (std::size_t k = 0; k < grid.size(); ++k)
+      if (used[k]) cells.push_back(grid[k]);
+    return cells;
+  }
+  struct Keyed {
+    std::int64_t key;
+    cv::Point2f p;
+  };
+  std::vector<Keyed> keyed;
+  keyed.reserve(n);
+  for (const cv::Point2f& p : xy) {
+    if (!finite(p)) continue;
+    const auto kx = static_cast<std::int64_t>(std::floor(p.x * inv));
+    const auto ky = static_cast<std::int64_t>(std::floor(p.y * inv));
+    // Ordered by x cell, then y cell (offset to be non-negative in the low 32 bits).
+    keyed.push_back({kx * (std::int64_t(1) << 32) + (ky + (std::int64_t(1) << 31)), p});
+  }
+  std::sort(keyed.begin(), keyed.end(),
+            [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    const Eigen::Vector2f p(keyed[i].p.x, keyed[i].p.y);
+    if (i == 0 || keyed[i].key != keyed[i - 1].key) {
+      cells.push_back({p, p});
+    } else {
+      cells.back().min = cells.back().min.cwiseMin(p);
+      cells.back().max = cells.back().max.cwiseMax(p);
+    }
+  }
+  return cells;
+}
+
+Box3D fitBoxFootprint(const std::vector<cv::Point2f>& xy, float zmin, float zmax, int num_points,
+                      float footprint_cell_m) {
+  Box3D box;
+  if (xy.empty()) return box;
+  const float inf = std::numeric_limits<float>::infinity();
+  float xmin = inf, ymin = inf, xmax = -inf, ymax = -inf;
+  for (const cv::Point2f& p : xy) {
+    xmin = std::min(xmin, p.x);
+    xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y);
+    ymax = std::max(ymax, p.y);
+  }
+  box.min = Eigen::Vector3f(xmin, ymin, zmin);
+  box.max = Eigen::Vector3f(xmax, ymax, zmax);
+  box.num_points = num_points;
+
+  // Oriented box: OpenCV's minimum-area rectangle of the footprint.
+  const cv::RotatedRect rect = cv::minAreaRect(xy);
+  float length = rect.size.width, width = rect.size.height;
+  float yaw = rect.angle * static_cast<float>(M_PI / 180.0);
+  if (width > length) {  // length is the longer side; yaw follows it
+    std::swap(length, width);
+    yaw += static_cast<float>(M_PI / 2.0);
+  }
+  // Normalise to (-pi/2, pi/2]: a box is symmetric under a half turn.
+  while (yaw > static_cast<float>(M_PI / 2.0)) yaw -= static_cast<float>(M_PI);
+  while (yaw <= -static_cast<float>(M_PI / 2.0)) yaw += static_cast<float>(M_PI);
+
+  box.center = Eigen::Vector3f(rect.center.x, rect.center.y, 0.5f * (zmin + zmax));
+  box.size = Eigen::Vector3f(length, width, zmax - zmin);
+  box.yaw = yaw;
+  box.footprint = footprintCells(xy, footprint_cell_m);
+  return box;
+}
+
+float bevIoU(const Box3D& a, const Box3D& b) {
+  const float ix = std::min(a.max.x(), b.max.x()) - std::max(a.min.x(), b.min.x());
+  const float iy = std::min(a.max.y(), b.max.y()) - std::max(a.min.y(), b.min.y());
+  if (ix <= 0.0f || iy <= 0.0f) return 0.0f;
+  const float inter = ix * iy;
+  const float area_a = (a.max.x() - a.min.x()) * (a.max.y() - a.min.y());
+  const float area_b = (b.max.x() - b.min.x()) * (b.max.y() - b.min.y());
+  const float uni = area_a + area_b - inter;
+  return uni > 0.0f ? inter / uni : 0.0f;
+}
+
+bool orientedBoxContains(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw,
+                         const Eigen::Vector3d& p, double margin_m) {
+  const Eigen::Vector3d d = p - center;
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double along = c * d.x() + s * d.y();
+  const double across = -s * d.x() + c * d.y();
+  return std::abs(along) <= 0.5 * size.x() + margin_m &&
+         std::abs(across) <= 0.5 * size.y() + margin_m &&
+         std::abs(d.z()) <= 0.5 * size.z() + margin_m;
+}
+
+}  // namespace icanc

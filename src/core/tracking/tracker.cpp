@@ -1,0 +1,284 @@
+#include "icanc/core/tracking/tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace icanc {
+namespace {
+
+bool finiteCenter(const Box3D& box) { return box.center.allFinite(); }
+
+// Moves the box (centre and axis-aligned bounds) by delta.
+void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
+  box.center += delta;
+  box.min += delta;
+  box.max += delta;
+  for (FootprintCell& cell : box.footprint) {
+    cell.min += delta.head<2>();
+    cell.max += delta.head<2>();
+  }
+}
+
+// Re-expresses the box in another frame (the vehicle moved): the centre moves exactly, the bounds
+// and footprint parts become the axis-aligned bounds of their rotated corners, the yaw turns.
+void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
+  const Eigen::Isometry3f m = motion.cast<float>();
+  const auto planarBounds = [&m](Eigen::Vector2f& min, Eigen::Vector2f& max, float z) {
+    Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::infinity());
+    Eigen::Vector2f hi = -lo;
+    for (int corner = 0; corner < 4; ++corner) {
+      const Eigen::Vector3f p(corner & 1 ? max.x() : min.x(), corner & 2 ? max.y() : min.y(), z);
+      const Eigen::Vector2f q = (m * p).head<2>();
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    min = lo;
+    max = hi;
+  };
+  const float z_mid = 0.5f * (box.min.z() + box.max.z());
+  for (FootprintCell& cell : box.footprint) planarBounds(cell.min, cell.max, z_mid);
+  Eigen::Vector2f min = box.min.head<2>(), max = box.max.head<2>();
+  planarBounds(min, max, z_mid);
+  const float dz = (m * Eigen::Vector3f(box.center.x(), box.center.y(), z_mid)).z() - z_mid;
+  box.min << min, box.min.z() + dz;
+  box.max << max, box.max.z() + dz;
+  box.center = m * box.center;
+  box.yaw += static_cast<float>(std::atan2(motion.linear()(1, 0), motion.linear()(0, 0)));
+}
+
+// Which part of the box the filter follows along one planar axis.
+enum class Face : std::uint8_t { kMiddle, kMin, kMax };
+
+float faceValue(const Box3D& box, int axis, Face face) {
+  switch (face) {
+    case Face::kMin: return box.min[axis];
+    case Face::kMax: return box.max[axis];
+    case Face::kMiddle: break;
+  }
+  return 0.5f * (box.min[axis] + box.max[axis]);
+}
+
+// TrackAnchor::kNearestFace along one axis of a detection: the face toward the sensor where the
+// sensor lies beyond the box, the middle where it lies within the box's span. A face at the
+// region of interest's edge is where the view ends, not the object: the other face instead (the
+// middle when both are cut).
+Face nearestFace(const Box3D& detection, int axis, const TrackerView& view) {
+  const float lo = detection.min[axis], hi = detection.max[axis], s = view.origin[axis];
+  const bool cut_lo = lo <= view.region_min[axis] + view.region_tolerance_m;
+  const bool cut_hi = hi >= view.region_max[axis] - view.region_tolerance_m;
+  if (cut_lo && cut_hi) return Face::kMiddle;
+  if (cut_lo) return Face::kMax;
+  if (cut_hi) return Face::kMin;
+  if (s < lo) return Face::kMin;
+  if (s > hi) return Face::kMax;
+  return Face::kMiddle;
+}
+
+// The position the filter measures for `detection` against the track's predicted box: the
+// filter's predicted reference point moved by as much as the anchor faces moved from the predicted
+// box to the detection (z: the middles). The same faces of both boxes are compared, so a change
+// of the visible extent on the other side moves nothing, and a switch to other faces is smooth.
+// An object whose footprint is shorter than params.face_min_extent_m both ways in both boxes is
+// seen whole (a pedestrian, a bin): its middles, two faces' noise averaged.
+Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
+                                    const Eigen::Vector3d& predicted_reference,
+                                    const TrackerParams& params, const TrackerView& view) {
+  const Eigen::Vector2f extent = (detection.max - detection.min)
+                                     .head<2>()
+                                     .cwiseMax((predicted.max - predicted.min).head<2>());
+  const bool faces = params.anchor == TrackAnchor::kNearestFace &&
+                     !(extent.maxCoeff() < params.face_min_extent_m);
+  Eigen::Vector3d z = predicted_reference;
+  for (int axis = 0; axis < 3; ++axis) {
+    Face face = Face::kMiddle;
+    if (faces && axis < 2) {
+      // Passing alongside, the detection spans the sensor and both its faces are seen; the
+      // predicted box's far face was not: keep the face it was followed by.
+      face = nearestFace(detection, axis, view);
+      if (face == Face::kMiddle) face = nearestFace(predicted, axis, view);
+    }
+    z[axis] += double(faceValue(detection, axis, face)) - double(faceValue(predicted, axis, face));
+  }
+  return z;
+}
+
+}  // namespace
+
+const char* toString(TrackAnchor anchor) {
+  switch (anchor) {
+    case TrackAnchor::kCentre: return "centre";
+    case TrackAnchor::kNearestFace: return "nearest_face";
+    case TrackAnchor::kInvalid: break;
+  }
+  return "invalid";
+}
+
+TrackAnchor parseTrackAnchor(const std::string& name) {
+  if (name == "centre") return TrackAnchor::kCentre;
+  if (name == "nearest_face") return TrackAnchor::kNearestFace;
+  return TrackAnchor::kInvalid;
+}
+
+std::string validate(const TrackerParams& p) {
+  std::ostringstream why;
+  if (!(p.gate_distance_m > 0.0f) || !std::isfinite(p.gate_distance_m)) {
+    why << "tracker.gate_distance_m must be > 0 (got " << p.gate_distance_m << ")";
+  } else if (!(p.iou_weight >= 0.0f) || !std::isfinite(p.iou_weight)) {
+    why << "tracker.iou_weight must be >= 0 (got " << p.iou_weight << ")";
+  } else if (p.min_hits_to_confirm < 1) {
+    why << "tracker.min_hits_to_confirm must be >= 1 (got " << p.min_hits_to_confirm << ")";
+  } else if (p.max_missed_frames < 0) {
+    why << "tracker.max_missed_frames must be >= 0 (got " << p.max_missed_frames << ")";
+  } else if (!(p.accel_std >= 0.0) || !std::isfinite(p.accel_std)) {
+    why << "tracker.accel_std must be >= 0 (got " << p.accel_std << ")";
+  } else if (!(p.steady_accel_std >= 0.0) || !std::isfinite(p.steady_accel_std)) {
+    why << "tracker.steady_accel_std must be >= 0 (got " << p.steady_accel_std << ")";
+  } else if (!(p.mode_switch_rate_per_s > 0.0) || !std::isfinite(p.mode_switch_rate_per_s)) {
+    why << "tracker.mode_switch_rate_per_s must be > 0 (got " << p.mode_switch_rate_per_s << ")";
+  } else if (!(p.measurement_std_m > 0.0) || !std::isfinite(p.measurement_std_m)) {
+    why << "tracker.measurement_std_m must be > 0 (got " << p.measurement_std_m << ")";
+  } else if (!(p.initial_velocity_std > 0.0) || !std::isfinite(p.initial_velocity_std)) {
+    why << "tracker.initial_velocity_std must be > 0 (got " << p.initial_velocity_std << ")";
+  } else if (!(p.max_dt_s > 0.0) || !std::isfinite(p.max_dt_s)) {
+    why << "tracker.max_dt_s must be > 0 (got " << p.max_dt_s << ")";
+  } else if (!(p.face_min_extent_m >= 0.0f) || !std::isfinite(p.face_min_extent_m)) {
+    why << "tracker.face_min_extent_m must be >= 0 (got " << p.face_min_extent_m << ")";
+  } else if (!(p.robust_sigma >= 0.0) || !std::isfinite(p.robust_sigma)) {
+    why << "tracker.robust_sigma must be >= 0 (got " << p.robust_sigma << ")";
+  } else if (p.anchor != TrackAnchor::kCentre && p.anchor != TrackAnchor::kNearestFace) {
+    why << "tracker.anchor must be \"centre\" or \"nearest_face\"";
+  }
+  return why.str();
+}
+
+double Track::velocityStd() const {
+  const auto& P = filter.covariance();
+  return std::sqrt(P(3, 3) + P(4, 4));
+}
+
+Eigen::Vector2d Track::velocityStdXY() const {
+  const auto& P = filter.covariance();
+  return Eigen::Vector2d(std::sqrt(P(3, 3)), std::sqrt(P(4, 4)));
+}
+
+MultiObjectTracker::MultiObjectTracker(const TrackerParams& params) : params_(params) {}
+
+void MultiObjectTracker::reset() {
+  tracks_.clear();
+  has_stamp_ = false;
+}
+
+MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
+                                                            const std::vector<Box3D>& detections,
+                                                            const TrackerView& view,
+                                                            const Eigen::Isometry3d& motion) {
+  UpdateResult result = UpdateResult::kOk;
+  double dt = 0.0;
+  if (has_stamp_) {
+    dt = stamp_s - last_stamp_s_;
+    if (dt < 0.0) {
+      reset();
+      result = UpdateResult::kResetTimeBackwards;
+    } else if (!(dt <= params_.max_dt_s)) {  // also a non-finite stamp
+      reset();
+      result = UpdateResult::kResetGap;
+    }
+    if (result != UpdateResult::kOk) dt = 0.0;
+  }
+  last_stamp_s_ = stamp_s;
+  has_stamp_ = true;
+
+  // The vehicle moved since the last frame: every track re-expressed in this frame's vehicle
+  // frame, so the filter's velocity is over ground and a parked car keeps standing still.
+  if (result == UpdateResult::kOk && !motion.isApprox(Eigen::Isometry3d::Identity())) {
+    for (Track& track : tracks_) {
+      track.filter.changeFrame(motion);
+      changeBoxFrame(track.box, motion);
+    }
+  }
+
+  // Predict: the filter, and the box moves as its reference point does.
+  const ImmModels models{params_.steady_accel_std, params_.accel_std,
+                         params_.mode_switch_rate_per_s};
+  for (Track& track : tracks_) {
+    const Eigen::Vector3d before = track.filter.position();
+    track.filter.predict(dt, models);
+    translateBox(track.box, (track.filter.position() - before).cast<float>());
+  }
+
+  // Cost matrix tracks x detections: planar centre distance / gate + weight * (1 - BEV IoU).
+  const int num_tracks = static_cast<int>(tracks_.size());
+  const int num_detections = static_cast<int>(detections.size());
+  if (cost_.rows() < num_tracks || cost_.cols() < num_detections) {
+    cost_.resize(std::max<Eigen::Index>(num_tracks, cost_.rows()),
+                 std::max<Eigen::Index>(num_detections, cost_.cols()));
+  }
+  const double gate = params_.gate_distance_m;
+  for (int j = 0; j < num_detections; ++j) {
+    const Box3D& detection = detections[j];
+    if (!finiteCenter(detection)) {
+      cost_.col(j).head(num_tracks).setConstant(kForbiddenCost);
+      continue;
+    }
+    for (int i = 0; i < num_tracks; ++i) {
+      const Box3D& predicted = tracks_[i].box;
+      const double dx = predicted.center.x() - detection.center.x();
+      const double dy = predicted.center.y() - detection.center.y();
+      const double d2 = dx * dx + dy * dy;  // gate on the square: most pairs are far apart
+      cost_(i, j) = d2 > gate * gate
+                        ? kForbiddenCost
+                        : std::sqrt(d2) / gate +
+                              params_.iou_weight * (1.0 - bevIoU(predicted, detection));
+    }
+  }
+  solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
+                              assignment_workspace_, track_to_detection_);
+
+  // Update matched tracks, age every track, drop the ones missed too often.
+  const double measurement_variance = params_.measurement_std_m * params_.measurement_std_m;
+  detection_used_.assign(num_detections, 0);
+  for (int i = 0; i < num_tracks; ++i) {
+    Track& track = tracks_[i];
+    const int j = track_to_detection_[i];
+    if (j >= 0) {
+      const Box3D& detection = detections[j];
+      detection_used_[j] = 1;
+      const Eigen::Vector3d z = anchoredMeasurement(detection, track.box, track.filter.position(),
+                                                    params_, view);
+      track.filter.update(z, measurement_variance, params_.robust_sigma);
+      track.box = detection;
+      translateBox(track.box, (track.filter.position() - z).cast<float>());
+      ++track.hits;
+      track.missed = 0;
+    } else {
+      ++track.missed;
+    }
+    ++track.age;
+    track.confirmed = track.confirmed || track.hits >= params_.min_hits_to_confirm;
+  }
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [this](const Track& track) {
+                                 return track.missed > params_.max_missed_frames;
+                               }),
+                tracks_.end());
+
+  // Birth: one tentative track per unassigned detection.
+  const double velocity_variance = params_.initial_velocity_std * params_.initial_velocity_std;
+  for (int j = 0; j < num_detections; ++j) {
+    if (detection_used_[j] || !finiteCenter(detections[j])) continue;
+    tracks_.emplace_back();
+    Track& track = tracks_.back();
+    track.id = next_id_++;
+    track.box = detections[j];
+    track.filter.init(detections[j].center.cast<double>(), measurement_variance,
+                      velocity_variance);
+    track.age = 1;
+    track.hits = 1;
+    track.missed = 0;
+    track.confirmed = track.hits >= params_.min_hits_to_confirm;
+  }
+  return result;
+}
+
+}  // namespace icanc

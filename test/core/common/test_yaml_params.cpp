@@ -1,0 +1,95 @@
+// The shipped vehicle profiles load and validate, carry the paper's values, and a bad value is
+// reported with its file and key.
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "icanc/core/common/yaml_params.hpp"
+
+namespace icanc {
+namespace {
+
+
+std::string configDir() {
+  // The source tree's config/ (tests run from the build tree; the macro points next to it).
+  const std::string here = __FILE__;
+  return here.substr(0, here.rfind("/test/core/")) + "/config/";
+}
+
+TEST(Profiles, ShippedProfilesCarryThePapersValues) {
+  const Profile zebra = loadProfile(configDir() + "zebra.yaml");
+  EXPECT_DOUBLE_EQ(zebra.danger.half_width_m, 0.7);
+  EXPECT_DOUBLE_EQ(zebra.danger.reaction_time_s, 3.0);
+  EXPECT_DOUBLE_EQ(zebra.light.tau_s, 3.0);
+  EXPECT_FLOAT_EQ(zebra.detector.prep.voxel_leaf_m, 0.2f);
+  EXPECT_EQ(zebra.detector.ground.max_iterations, 30);
+  EXPECT_FLOAT_EQ(zebra.detector.ground.distance_threshold_m, 0.3f);
+  EXPECT_FLOAT_EQ(zebra.detector.cluster.tolerance_m, 0.6f);
+  EXPECT_EQ(zebra.detector.cluster.min_points, 10);
+  EXPECT_EQ(zebra.detector.cluster.max_points, 5000);
+  EXPECT_EQ(zebra.detector.tracker.anchor, TrackAnchor::kNearestFace);
+  EXPECT_FLOAT_EQ(zebra.detector.prep.roi_max.x(), 30.0f);
+  EXPECT_FALSE(zebra.light.illumination_enabled);  // the paper unless launched with a camera
+  EXPECT_DOUBLE_EQ(zebra.light.illumination_stale_timeout_s, 1.0);
+  EXPECT_DOUBLE_EQ(zebra.illumination.dark_at, 0.15);
+  EXPECT_DOUBLE_EQ(zebra.illumination.bright_at, 0.30);
+  EXPECT_DOUBLE_EQ(zebra.illumination.min_dwell_s, 2.0);
+
+  const Profile carla = loadProfile(configDir() + "carla_model3.yaml");
+  EXPECT_DOUBLE_EQ(carla.danger.half_width_m, 1.2);
+  EXPECT_DOUBLE_EQ(carla.danger.reaction_time_s, 2.0);
+  EXPECT_DOUBLE_EQ(carla.light.tau_s, 2.0);
+
+  const Profile kitti = loadProfile(configDir() + "kitti_hdl64e.yaml");
+  // The footprint margin is each profile's measured box bias (README: Predictive danger model):
+  // KITTI's labelled boxes reach 0.19-0.25 m beyond what the HDL-64E sees, the simulator's 0-0.07.
+  EXPECT_DOUBLE_EQ(kitti.danger.footprint_margin_m, 0.2);
+  EXPECT_DOUBLE_EQ(zebra.danger.footprint_margin_m, 0.0);
+  EXPECT_DOUBLE_EQ(carla.danger.footprint_margin_m, 0.05);
+  for (const Profile* p : {&zebra, &carla, &kitti}) {
+    EXPECT_FLOAT_EQ(p->detector.footprint_cell_m, 1.0f);
+    EXPECT_DOUBLE_EQ(p->detector.tracker.accel_std, 3.0);
+    EXPECT_DOUBLE_EQ(p->detector.tracker.steady_accel_std, 0.05);
+  }
+}
+
+TEST(Profiles, BadValueNamesFileAndKey) {
+  const std::string path = ::testing::TempDir() + "icanc_bad_profile.yaml";
+  {
+    std::ofstream out(path);
+    out << "danger_detector:\n  half_width_m: -1.0\n";
+  }
+  try {
+    loadProfile(path);
+    FAIL() << "a negative half width was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("half_width_m"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(path);
+    out << "obstacle_detector:\n  prep:\n    roi_min: [1, 2]\n";
+  }
+  try {
+    loadProfile(path);
+    FAIL() << "a two-element roi_min was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("prep/roi_min"), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(path);
+    out << "obstacle_detector:\n  tracker:\n    anchor: middle\n";
+  }
+  try {
+    loadProfile(path);
+    FAIL() << "an unknown tracker anchor was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("tracker.anchor"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace icanc

@@ -1,0 +1,413 @@
+// Pins the evaluation's counting on hand-built frames.
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "icanc/core/evaluation/evaluation.hpp"
+
+namespace icanc {
+namespace {
+
+TruthObject truth(std::uint32_t id, double x, double y, bool dangerous, double ttc = -1.0) {
+  TruthObject o;
+  o.id = id;
+  o.center = Eigen::Vector2d(x, y);
+  o.velocity = Eigen::Vector2d(-1.0, 0.0);
+  o.num_points = 50;
+  o.dangerous = dangerous;
+  o.time_to_corridor = ttc;
+  return o;
+}
+
+DetectedObject det(std::uint32_t id, double x, double y, bool dangerous, double vx = -1.0) {
+  DetectedObject d;
+  d.id = id;
+  d.center = Eigen::Vector2d(x, y);
+  d.velocity = Eigen::Vector2d(vx, 0.0);
+  d.dangerous = dangerous;
+  return d;
+}
+
+EvalFrame frame(double t, bool lamp, std::vector<TruthObject> tr, std::vector<DetectedObject> d) {
+  EvalFrame f;
+  f.t = t;
+  f.processed = true;
+  f.lamp_on = lamp;
+  f.latency_ms = 10.0 * t;
+  f.truth = std::move(tr);
+  f.detections = std::move(d);
+  return f;
+}
+
+TEST(Evaluate, ConfusionPerObjectFrame) {
+  std::vector<EvalFrame> frames;
+  // TP (dangerous, flagged), FN (dangerous, not flagged), FP (safe, flagged), TN, FN (unseen).
+  frames.push_back(frame(0.0, true, {truth(1, 5, 0, true, 1.0), truth(2, 10, 5, true, 1.0),
+                                     truth(3, 8, -4, false), truth(4, 20, 0, false),
+                                     truth(5, 30, 0, true, 1.0)},
+                         {det(11, 5.2, 0, true), det(12, 10, 5.3, false), det(13, 8, -4, true),
+                          det(14, 20.5, 0, false)}));
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.danger.tp, 1u);
+  EXPECT_EQ(r.danger.fn, 2u);
+  EXPECT_EQ(r.danger.fp, 1u);
+  EXPECT_EQ(r.danger.tn, 1u);
+  EXPECT_DOUBLE_EQ(r.danger.precision(), 0.5);
+  EXPECT_DOUBLE_EQ(r.danger.recall(), 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(r.danger.accuracy(), 2.0 / 5.0);
+  EXPECT_DOUBLE_EQ(r.danger.f1(), 2.0 / (2.0 + 1.0 + 2.0));
+  EXPECT_EQ(r.detection.tp, 4u);
+  EXPECT_EQ(r.detection.fn, 1u);
+  EXPECT_EQ(r.detection.fp, 0u);
+}
+
+TEST(Evaluate, UnmatchedDangerousDetectionIsAFalseAlarmOnlyInScope) {
+  EvalParams p;
+  p.fov_half_angle_deg = 45.0;
+  std::vector<EvalFrame> frames{frame(0.0, true, {}, {det(1, 5, 0, true), det(2, -5, 0, true),
+                                                       det(3, 50, 0, true), det(4, 6, 1, false)})};
+  const EvalReport r = evaluate(frames, p);
+  EXPECT_EQ(r.danger.fp, 1u);  // behind (outside the 45 deg sector) and beyond 40 m are not scored
+  EXPECT_EQ(r.false_alarms_unmatched, 1u);
+  EXPECT_EQ(r.detection.fp, 2u);
+}
+
+// A detection on a true object that is not scored (too few returns; just beyond the range) is not
+// scored either: no false alarm, no detection false positive. One beside it still is.
+TEST(Evaluate, ADetectionOfAnUnscoredObjectIsNotScored) {
+  TruthObject sparse = truth(1, 24.0, -1.7, true, 1.0), far = truth(2, 40.6, 0.0, false);
+  sparse.num_points = 4;
+  const std::vector<EvalFrame> frames{frame(0.0, true, {sparse, far},
+                                            {det(10, 24.1, -1.6, true), det(11, 39.8, 0.0, true),
+                                             det(12, 24.0, 1.0, true)})};
+  std::vector<ScoredRow> rows;
+  const EvalReport r = evaluate(frames, EvalParams(), &rows);
+  EXPECT_EQ(r.danger.fp, 1u);  // only the detection 2.7 m beside the sparse object
+  EXPECT_EQ(r.false_alarms_unmatched, 1u);
+  EXPECT_EQ(r.danger.tp + r.danger.fn + r.danger.tn, 0u);
+  EXPECT_EQ(r.detection.fp, 1u);
+  // The two dangerous detections of unscored objects light the lamp: listed as DC, not counted.
+  ASSERT_EQ(rows.size(), 3u);
+  std::vector<std::uint32_t> dont_care;
+  for (const ScoredRow& row : rows) {
+    if (row.outcome == Outcome::kFalsePositive) {
+      EXPECT_FALSE(row.has_truth);
+      EXPECT_EQ(row.detection.id, 12u);
+      continue;
+    }
+    ASSERT_EQ(row.outcome, Outcome::kDontCare);
+    ASSERT_TRUE(row.has_truth && row.has_detection);
+    EXPECT_EQ(row.truth.id, row.detection.id - 9u);
+    dont_care.push_back(row.detection.id);
+  }
+  EXPECT_EQ(dont_care, (std::vector<std::uint32_t>{10u, 11u}));
+  EXPECT_NE(toCsv(rows).find(",DC,1,"), std::string::npos);
+}
+
+// Two clusters on one car (its rear face, and a roof scan line at a fixed range from the sensor):
+// the matching takes the one whose centre is nearer the true centre, the other is a fragment. The
+// car counts as flagged when either is dangerous, once; a fragment flagged on a safe object is that
+// object's false positive, not a false alarm of its own; detection still counts the extra cluster.
+TEST(Evaluate, AFragmentOfATrueObjectCountsForItsDanger) {
+  TruthObject car = truth(1, 18.0, -2.2, true, 1.0), parked = truth(2, 30.0, -4.0, false);
+  car.size = parked.size = Eigen::Vector2d(4.7, 1.9);
+  std::vector<EvalFrame> frames{
+      frame(0.0, true, {car, parked},
+            {det(10, 15.7, -2.2, true), det(11, 16.6, -2.2, false),     // the car: rear, roof line
+             det(20, 30.0, -4.0, false), det(21, 28.0, -4.0, true),     // the parked car, a fragment
+             det(30, 18.0, 3.0, true)})};                               // nothing there
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.danger.tp, 1u);  // the car, through its rear face (the roof line is matched)
+  EXPECT_EQ(r.danger.fn, 0u);
+  EXPECT_EQ(r.danger.fp, 2u);  // the parked car through its fragment, and the detection at y = 3
+  EXPECT_EQ(r.false_alarms_unmatched, 1u);
+  EXPECT_EQ(r.danger.tn, 0u);
+  EXPECT_EQ(r.detection.tp, 2u);
+  EXPECT_EQ(r.detection.fp, 3u);
+}
+
+// The same frame as rows: one per scored object-frame, naming the detection that decided it (the
+// match, or the dangerous fragment that flagged a true object whose match was safe).
+TEST(Evaluate, RowsExplainEachCountedObjectFrame) {
+  TruthObject car = truth(1, 18.0, -2.2, true, 1.0), parked = truth(2, 30.0, -4.0, false);
+  car.size = parked.size = Eigen::Vector2d(4.7, 1.9);
+  car.type = "car";
+  std::vector<EvalFrame> frames{
+      frame(0.5, true, {car, parked, truth(3, 8.0, 6.0, true, 2.0)},
+            {det(10, 15.7, -2.2, true), det(11, 16.6, -2.2, false), det(20, 30.0, -4.0, false),
+             det(21, 28.0, -4.0, true), det(30, 18.0, 3.0, true), det(31, 25.0, 9.0, false)})};
+  std::vector<ScoredRow> rows;
+  const EvalReport r = evaluate(frames, EvalParams(), &rows);
+  ASSERT_EQ(rows.size(), 4u);  // three true objects and the false alarm at y = 3
+  Confusion c;
+  for (const ScoredRow& row : rows) {
+    EXPECT_DOUBLE_EQ(row.t, 0.5);
+    c.tp += row.outcome == Outcome::kTruePositive;
+    c.fp += row.outcome == Outcome::kFalsePositive;
+    c.fn += row.outcome == Outcome::kFalseNegative;
+    c.tn += row.outcome == Outcome::kTrueNegative;
+  }
+  EXPECT_EQ(c.tp, r.danger.tp);
+  EXPECT_EQ(c.fp, r.danger.fp);
+  EXPECT_EQ(c.fn, r.danger.fn);
+  EXPECT_EQ(c.tn, r.danger.tn);
+
+  EXPECT_EQ(rows[0].outcome, Outcome::kTruePositive);  // the car, by its rear face's flag
+  EXPECT_EQ(rows[0].truth.id, 1u);
+  EXPECT_TRUE(rows[0].has_detection);
+  EXPECT_EQ(rows[0].detection.id, 10u);
+  EXPECT_TRUE(rows[0].fragment);  // the roof line (11) is the match; the rear face flagged it
+  EXPECT_EQ(rows[1].outcome, Outcome::kFalsePositive);  // the parked car, by its fragment 21
+  EXPECT_EQ(rows[1].detection.id, 21u);
+  EXPECT_TRUE(rows[1].fragment);
+  EXPECT_EQ(rows[2].outcome, Outcome::kFalseNegative);  // nothing seen at (8, 6)
+  EXPECT_FALSE(rows[2].has_detection);
+  EXPECT_EQ(rows[3].outcome, Outcome::kFalsePositive);  // the detection of nothing
+  EXPECT_FALSE(rows[3].has_truth);
+  EXPECT_EQ(rows[3].detection.id, 30u);
+
+  const std::string csv = toCsv(rows);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);  // header and four rows
+  EXPECT_NE(csv.find("\n0.500,TP,1,car,18.000,-2.200,4.700,1.900,0.0000,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0.500,FN,3,,8.000,6.000,0.000,0.000,0.0000,-1.000,0.000,2.00,,,,"),
+            std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0.500,FP,,,,,,,,,,,30,0,1,18.000,3.000,"), std::string::npos) << csv;
+  // Every line has the header's number of fields.
+  std::size_t start = 0;
+  while (start < csv.size()) {
+    const std::size_t end = csv.find('\n', start);
+    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 25) << csv.substr(start, end - start);
+    start = end + 1;
+  }
+}
+
+// How far the true footprint reaches beyond the detected box: the face toward the vehicle along x
+// (x_min ahead, x_max behind) and both faces along y, of a yawed true box by its axis-aligned
+// bounds; medians; a detection without a box is not counted.
+TEST(Evaluate, BoxBiasOfTheTrueFootprintBeyondTheDetectedBox) {
+  const auto sized = [](std::uint32_t id, double x, double y, double yaw) {
+    TruthObject o = truth(id, x, y, false);
+    o.size = Eigen::Vector2d(4.0, 2.0);
+    o.yaw = yaw;
+    return o;
+  };
+  const auto boxed = [](std::uint32_t id, double x, double y, double x0, double x1, double y0, double y1) {
+    DetectedObject d = det(id, x, y, false);
+    d.has_aabb = true;
+    d.aabb_min = Eigen::Vector2d(x0, y0);
+    d.aabb_max = Eigen::Vector2d(x1, y1);
+    return d;
+  };
+  const std::vector<EvalFrame> frames{frame(
+      0.0, false,
+      {sized(1, 10, 0, 0.0), sized(2, -10, 3, 0.0), sized(3, 5, 10, M_PI / 2), sized(4, 20, -5, 0.0)},
+      {boxed(11, 10, 0, 8.2, 12.0, -0.8, 0.9),      // near 0.2, sides 0.2 and 0.1
+       boxed(12, -10, 3, -12.0, -8.3, 2.0, 3.9),    // behind: near 0.3, sides 0 and 0.1
+       boxed(13, 5, 10, 4.4, 6.0, 8.0, 11.5),       // yawed 90 deg: near 0.4, sides 0 and 0.5
+       det(14, 20, -5, false)})};                    // no box
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.box_bias_samples, 3u);
+  EXPECT_NEAR(r.box_bias_near_m, 0.3, 1e-9);
+  EXPECT_NEAR(r.box_bias_side_m, 0.1, 1e-9);
+}
+
+TEST(Evaluate, OptimalMatchingNotGreedy) {
+  // True objects at x = 10.0 and 11.4, detections at 10.7 and 12.8 (gate 1.5). Nearest-first
+  // greedy pairs 11.4 with 10.7 (0.7 m) and then 10.0 has nothing within the gate; the optimal
+  // matching pairs 10.0-10.7 and 11.4-12.8.
+  std::vector<EvalFrame> frames{frame(0.0, false, {truth(1, 10.0, 0, false), truth(2, 11.4, 0, false)},
+                                      {det(7, 10.7, 0, false), det(8, 12.8, 0, false)})};
+  EvalParams p;
+  p.match_distance_m = 1.5;
+  const EvalReport r = evaluate(frames, p);
+  EXPECT_EQ(r.detection.tp, 2u);  // a greedy pass would pair 11.4 with 10.7 and lose 10.0
+  EXPECT_EQ(r.detection.fn, 0u);
+}
+
+TEST(Evaluate, MatchesByDistanceToTheOrientedTrueFootprint) {
+  // A car 4.5 x 1.8 m turned 90 deg (long side along y) at (10, 0): the LiDAR sees its near side,
+  // so the cluster centre (10, 1.9) is 1.9 m from the true centre but inside the footprint.
+  TruthObject car = truth(1, 10, 0, false);
+  car.size = Eigen::Vector2d(4.5, 1.8);
+  car.yaw = M_PI / 2;
+  EXPECT_NEAR(distanceToFootprint(car, Eigen::Vector2d(10, 1.9)), 0.0, 1e-9);
+  EXPECT_NEAR(distanceToFootprint(car, Eigen::Vector2d(12.0, 0)), 2.0 - 0.9, 1e-9);
+  EXPECT_NEAR(distanceToFootprint(car, Eigen::Vector2d(10, -3.25)), 1.0, 1e-9);
+  std::vector<EvalFrame> seen{frame(0.0, false, {car}, {det(7, 10, 1.9, false)})};
+  EXPECT_EQ(evaluate(seen, EvalParams()).detection.tp, 1u);
+  // 1.1 m beyond the footprint's side (gate 1.0): not the car.
+  std::vector<EvalFrame> beside{frame(0.0, false, {car}, {det(7, 12.0, 0, false)})};
+  const EvalReport r = evaluate(beside, EvalParams());
+  EXPECT_EQ(r.detection.tp, 0u);
+  EXPECT_EQ(r.detection.fn, 1u);
+  EXPECT_EQ(r.detection.fp, 1u);
+}
+
+TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
+  std::vector<EvalFrame> frames;
+  // Object 1 is truly dangerous from t = 1.0 to 1.2 (enters the corridor 2.0 s after t = 1.0).
+  // The lamp comes on at t = 1.1: lead time = 3.0 - 1.1 = 1.9 s. Object 2's episode (t = 2.0)
+  // never sees the lamp on: missed.
+  frames.push_back(frame(0.9, false, {truth(1, 9, 0, false)}, {det(5, 9, 0, false)}));
+  frames.push_back(frame(1.0, false, {truth(1, 8, 0, true, 2.0)}, {det(5, 8, 0, false)}));
+  frames.push_back(frame(1.1, true, {truth(1, 7, 0, true, 1.9)}, {det(6, 7, 0, true, -2.0)}));
+  frames.push_back(frame(1.2, true, {truth(1, 6, 0, true, 1.8)}, {det(6, 6, 0, true)}));
+  frames.push_back(frame(1.3, false, {truth(1, 6, 0, false)}, {det(6, 6, 0, false)}));
+  frames.push_back(frame(2.0, false, {truth(2, 6, 3, true, 0.5)}, {}));
+  EvalFrame dropped;
+  dropped.t = 2.1;
+  frames.push_back(dropped);  // not processed: not counted
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.frames, 7u);
+  EXPECT_EQ(r.processed, 6u);
+  EXPECT_EQ(r.episodes, 2u);
+  EXPECT_EQ(r.caught, 1u);
+  ASSERT_EQ(r.lead_times_s.size(), 1u);
+  EXPECT_NEAR(r.lead_times_s[0], 1.9, 1e-9);
+  EXPECT_EQ(r.id_switches, 1u);  // detection id 5 -> 6 on the same true object
+  EXPECT_EQ(r.velocity_samples, 5u);
+  EXPECT_NEAR(r.velocity_rmse, std::sqrt(1.0 / 5.0), 1e-9);  // one sample 1 m/s off
+  EXPECT_DOUBLE_EQ(r.duty_cycle, 2.0 / 6.0);
+  EXPECT_NEAR(r.latency_max_ms, 20.0, 1e-9);
+  EXPECT_NE(toTable(r, "t").find("1 caught of 2"), std::string::npos);
+  EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
+}
+
+// Issue 21: "caught" means the object itself (or a fragment of it) was flagged, not the lamp on
+// for any reason. Object 1 is dangerous while the lamp is on because of object 3 (a dangerous
+// detection elsewhere) and its own detection is never flagged: missed. Object 2's fragment (a
+// detection left over within the match distance) is flagged: caught.
+TEST(Evaluate, CaughtNeedsTheObjectItselfFlagged) {
+  std::vector<EvalFrame> frames;
+  frames.push_back(frame(1.0, true, {truth(1, 8, 0, true, 2.0), truth(3, 20, 10, false)},
+                         {det(5, 8, 0, false), det(7, 20, 10, true)}));
+  frames.push_back(frame(1.1, true, {truth(1, 7, 0, true, 1.9), truth(3, 20, 10, false)},
+                         {det(5, 7, 0, false), det(7, 20, 10, true)}));
+  TruthObject car = truth(2, 10, -3, true, 1.0);
+  car.size = Eigen::Vector2d(4.5, 1.8);
+  frames.push_back(frame(2.0, true, {car}, {det(8, 10, -3, false), det(9, 11.5, -3, true)}));
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.episodes, 2u);
+  EXPECT_EQ(r.caught, 1u) << "the lamp on for object 3 must not count as catching object 1";
+  ASSERT_EQ(r.lead_times_s.size(), 1u);
+  EXPECT_NEAR(r.lead_times_s[0], 1.0, 1e-9);
+}
+
+// The danger model on perfect tracks: each scored true object's own box and velocity, whatever
+// was detected. A 0.5 m pedestrian 4 m ahead closing at 2 m/s (truly dangerous) and one standing
+// 3 m to the side (safe), five frames at 10 Hz, nothing detected; zebra's corridor (x <= 1.5 m).
+TEST(Evaluate, DangerModelOnPerfectTracks) {
+  const auto run = [](DangerModel model) {
+    std::vector<EvalFrame> frames;
+    for (int i = 0; i < 5; ++i) {
+      TruthObject walker = truth(1, 4.0 - 0.2 * i, 0.0, true, 1.0), aside = truth(2, 3.0, 3.0, false);
+      walker.size = aside.size = Eigen::Vector2d(0.5, 0.5);
+      walker.velocity = Eigen::Vector2d(-2.0, 0.0);
+      aside.velocity = Eigen::Vector2d::Zero();
+      frames.push_back(frame(0.1 * i, false, {walker, aside}, {}));
+    }
+    EvalParams p;
+    p.danger.model = model;
+    const EvalReport r = evaluate(frames, p);
+    EXPECT_EQ(r.danger.fn, 5u);  // nothing was detected
+    EXPECT_EQ(r.danger.tn, 5u);
+    EXPECT_EQ(r.perfect_tracks.tn, 5u);
+    EXPECT_EQ(r.perfect_tracks.fp, 0u);
+    EXPECT_NE(toJson(r, "t").find("\"perfect_tracks\": {\"tp\": " + std::to_string(r.perfect_tracks.tp)),
+              std::string::npos);
+    return r.perfect_tracks;
+  };
+  // The paper's rule: 3.75 m <= 2 m/s * 3 s, heading 180 in the front section, every frame.
+  EXPECT_EQ(run(DangerModel::kPaper).tp, 5u);
+  // Predictive: the near face reaches 1.5 m after 1.125 s at the first frame, more than
+  // immediate_ttc_s (1 s): the hysteresis waits for the second frame, as it does on the vehicle.
+  const Confusion predictive = run(DangerModel::kPredictive);
+  EXPECT_EQ(predictive.tp, 4u);
+  EXPECT_EQ(predictive.fn, 1u);
+}
+
+// The duty cycle of a perfect danger detector: the paper's light controller given the ground
+// truth's danger each frame. 50 frames at 10 Hz, danger at t = 1.0 only: on for tau; a second
+// danger at t = 2.5, with 0.5 s left (<= recheck_below_s), restarts the timer.
+TEST(Evaluate, TruthDutyCycleIsTheLightControllerOnTheTruth) {
+  const auto run = [](double tau, std::vector<double> danger_at) {
+    std::vector<EvalFrame> frames;
+    for (int i = 0; i < 50; ++i) {
+      const double t = 0.1 * i;
+      bool dangerous = false;
+      for (double d : danger_at) dangerous |= std::abs(t - d) < 1e-6;
+      frames.push_back(frame(t, false, {truth(1, 10, 3, dangerous, dangerous ? 1.0 : -1.0)}, {}));
+    }
+    EvalParams p;
+    p.lamp_tau_s = tau;
+    p.lamp_recheck_below_s = 1.0;
+    const EvalReport r = evaluate(frames, p);
+    EXPECT_DOUBLE_EQ(r.duty_cycle, 0.0);  // the graph's lamp stayed off throughout
+    return r.truth_duty_cycle;
+  };
+  EXPECT_NEAR(run(2.0, {1.0}), 20.0 / 50, 1.0 / 50 + 1e-9);       // 1.0 .. 3.0
+  EXPECT_NEAR(run(3.0, {1.0}), 30.0 / 50, 1.0 / 50 + 1e-9);       // 1.0 .. 4.0
+  EXPECT_NEAR(run(2.0, {1.0, 2.5}), 35.0 / 50, 1.0 / 50 + 1e-9);  // reset at 2.5: .. 4.5
+  EXPECT_NEAR(run(2.0, {1.0, 1.5}), 20.0 / 50, 1.0 / 50 + 1e-9);  // 1.5 s left: ignored
+  EXPECT_DOUBLE_EQ(run(2.0, {}), 0.0);
+}
+
+// The velocity error's two diagnostics: a track's box whose centre jumps 0.2 m sideways every
+// frame (offset steps of 0.2 m), velocity judged only once the track is settled, and no step
+// counted across an id switch or a missed frame.
+TEST(Evaluation, SettledVelocityAndCentreOffsetSteps) {
+  std::vector<EvalFrame> frames;
+  for (int i = 0; i < 14; ++i) {
+    const double x = 20.0 - i;  // the true object comes 1 m closer per frame
+    DetectedObject d = det(7, x, (i % 2) ? 0.2 : 0.0, false, i < 10 ? -5.0 : -1.5);
+    d.age = static_cast<std::uint32_t>(i + 1);
+    std::vector<DetectedObject> dets{d};
+    if (i == 6) dets.clear();  // missed: no step from frame 5 to 7
+    frames.push_back(frame(0.1 * i, false, {truth(1, x, 0, false)}, dets));
+  }
+  frames.push_back(frame(1.4, false, {truth(1, 6, 0, false)}, {det(8, 6, 0.2, false)}));  // new id
+  EvalParams params;
+  params.settled_age = 10;
+  const EvalReport r = evaluate(frames, params);
+  // Steps: frames 0->1 ... 5->6 is gone (6 missed), 7->8 ... 12->13: 5 + 6 = 11, each 0.2 m.
+  EXPECT_EQ(r.offset_steps, 11u);
+  EXPECT_NEAR(r.offset_step_rms_m, 0.2, 1e-9);
+  // Ages 10..14 settled (frames 9..13): frame 9 is 4 m/s off, frames 10..13 0.5 m/s off.
+  EXPECT_EQ(r.velocity_samples_settled, 5u);
+  EXPECT_NEAR(r.velocity_rmse_settled, std::sqrt((16.0 + 4 * 0.25) / 5.0), 1e-9);
+  EXPECT_GT(r.velocity_rmse, r.velocity_rmse_settled);
+  EXPECT_NE(toJson(r, "t").find("\"offset_step_rms_m\": 0.2"), std::string::npos);
+}
+
+// Issue 19: the speed over ground of settled tracks of objects that stand still, judged with the
+// frame's ego twist; frames without ego motion and moving objects do not count.
+TEST(Evaluate, StaticObjectsSpeedOverGround) {
+  std::vector<EvalFrame> frames;
+  for (int i = 0; i < 4; ++i) {
+    TruthObject parked = truth(1, 12, 4, false);
+    parked.velocity = Eigen::Vector2d(-10.0 + 0.1 * 4, -0.1 * 12);  // seen from 10 m/s, 0.1 rad/s
+    TruthObject walker = truth(2, 15, -5, false);
+    walker.velocity = Eigen::Vector2d(-10.0 - 0.1 * 5, 1.5 - 0.1 * 15);  // walks 1.5 m/s over ground
+    DetectedObject car = det(11, 12, 4, false);
+    car.velocity_over_ground = Eigen::Vector2d(0.1 * (i + 1), 0.0);
+    car.age = 20;
+    DetectedObject person = det(12, 15, -5, false);
+    person.velocity_over_ground = Eigen::Vector2d(0.0, 1.4);
+    person.age = 20;
+    EvalFrame f = frame(0.1 * i, false, {parked, walker}, {car, person});
+    f.ego_velocity = Eigen::Vector2d(10.0, 0.0);
+    f.ego_yaw_rate = 0.1;
+    f.ego_motion = i != 3;  // the last frame had no ego motion: not counted
+    frames.push_back(f);
+  }
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.static_speed_samples, 3u);
+  EXPECT_NEAR(r.static_speed_p50_mps, 0.2, 1e-9);
+  EXPECT_NE(toJson(r, "x").find("\"static_speed_mps\": {\"p50\": 0.2"), std::string::npos);
+  for (EvalFrame& f : frames) f.detections[0].age = 3;  // young tracks do not count
+  EXPECT_EQ(evaluate(frames, EvalParams()).static_speed_samples, 0u);
+}
+
+}  // namespace
+}  // namespace icanc

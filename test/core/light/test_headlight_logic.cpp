@@ -1,0 +1,71 @@
+// Pins the sketch's fail-safe (firmware/icanc_headlight/headlight_logic.h, compiled here as on
+// the board): ON at power-up until the host speaks, ON when disconnected, ON when commands stop
+// for the timeout, OFF only on a fresh OFF command over a live link; millis() wrap-around.
+#include <gtest/gtest.h>
+
+#include "../../../firmware/icanc_headlight/headlight_logic.h"
+
+namespace icanc_fw {
+namespace {
+
+TEST(HeadlightLogic, OnAtPowerUpUntilTheHostSpeaks) {
+  HeadlightLogic l;
+  EXPECT_EQ(l.commandTimeoutMs(), 500u);
+  EXPECT_TRUE(l.lampOn());  // before the first update()
+  EXPECT_TRUE(l.update(false, 0));
+  EXPECT_EQ(l.reason(), kDisconnected);
+  EXPECT_TRUE(l.update(true, 10));  // connected, no command yet
+  EXPECT_EQ(l.reason(), kNoCommandYet);
+  l.onCommand(false, 20);
+  EXPECT_FALSE(l.update(true, 20));
+  EXPECT_EQ(l.reason(), kCommandedOff);
+}
+
+TEST(HeadlightLogic, CommandTimeoutTurnsTheLampOn) {
+  HeadlightLogic l(500);
+  l.update(true, 0);
+  l.onCommand(false, 1000);
+  EXPECT_FALSE(l.update(true, 1499));
+  EXPECT_TRUE(l.update(true, 1500));  // exactly the timeout: ON
+  EXPECT_EQ(l.reason(), kCommandTimeout);
+  l.onCommand(false, 1600);  // the heartbeat resumes
+  EXPECT_FALSE(l.update(true, 1600));
+}
+
+TEST(HeadlightLogic, OnCommandKeepsTheLampOn) {
+  HeadlightLogic l;
+  l.onCommand(true, 5);
+  EXPECT_TRUE(l.update(true, 5));
+  EXPECT_EQ(l.reason(), kCommandedOn);
+}
+
+TEST(HeadlightLogic, DisconnectForgetsTheCommand) {
+  HeadlightLogic l;
+  l.onCommand(false, 100);
+  EXPECT_FALSE(l.update(true, 100));
+  EXPECT_TRUE(l.update(false, 150));  // link dropped (TX stop, sync timeout)
+  EXPECT_EQ(l.reason(), kDisconnected);
+  // Reconnected 50 ms later: the OFF from before the drop is young but not trusted.
+  EXPECT_TRUE(l.update(true, 200));
+  EXPECT_EQ(l.reason(), kNoCommandYet);
+  l.onCommand(false, 210);
+  EXPECT_FALSE(l.update(true, 210));
+}
+
+TEST(HeadlightLogic, MillisWrapAroundDoesNotTimeOutOrFreeze) {
+  HeadlightLogic l(500);
+  const uint32_t before_wrap = 0xFFFFFF00u;
+  l.onCommand(false, before_wrap);
+  EXPECT_FALSE(l.update(true, before_wrap + 0x100u));  // = 0 after the wrap, 256 ms later
+  EXPECT_FALSE(l.update(true, 0x000000F0u));           // 496 ms later
+  EXPECT_TRUE(l.update(true, 0x000000F4u));            // 500 ms later
+}
+
+TEST(HeadlightLogic, ReasonTextsAreDistinct) {
+  EXPECT_STREQ(reasonText(kNoCommandYet), "no command yet");
+  EXPECT_STREQ(reasonText(kCommandedOff), "commanded off");
+  EXPECT_STRNE(reasonText(kDisconnected), reasonText(kCommandTimeout));
+}
+
+}  // namespace
+}  // namespace icanc_fw

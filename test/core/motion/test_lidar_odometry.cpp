@@ -1,0 +1,241 @@
+// LidarOdometry (issue 19): simulated scans of a street (buildings with gaps, parked cars, poles)
+// taken from a vehicle on a known path, straight then turning, are registered and the recovered
+// trajectory is compared with the true one; a featureless corridor does not diverge; time going
+// backwards resets; empty, tiny and NaN input; a scene that no longer matches the map falls back to
+// the motion prior; parameter checks and the profile's section.
+#include "icanc/core/motion/lidar_odometry.hpp"
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "icanc/core/common/yaml_params.hpp"
+#include "icanc/sim/lidar_sim.hpp"
+#include "lidar_odometry_scene.hpp"
+
+namespace icanc {
+namespace {
+
+using namespace lio_scene;
+
+std::string configDir() {  // as test_energy: next to this file's test/core/
+  const std::string here = __FILE__;
+  return here.substr(0, here.rfind("/test/core/")) + "/config/";
+}
+
+double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose(0, 0)); }
+
+LidarOdometryParams testParams() {
+  LidarOdometryParams p;  // the library defaults but the range of the VLP-16 street
+  p.max_range_m = 50.0;
+  p.min_range_m = 2.0;
+  p.ground_max_z_m = 0.3;  // base_link on the road
+  return p;
+}
+
+TEST(LidarOdometry, RecoversAStraightThenTurningPath) {
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(7);
+  double worst_position = 0.0, worst_yaw = 0.0;
+  for (int f = 0; f <= 65; ++f) {  // 6.5 s: 3 s straight, a 57 deg turn, 1.5 s straight
+    const double t = 0.1 * f;
+    const Eigen::Isometry3d truth = truePose(t);
+    const Eigen::Isometry3d estimate = odometry.registerFrame(t, scanAt(scene, t, truth, rng));
+    worst_position =
+        std::max(worst_position, (estimate.translation() - truth.translation()).norm());
+    worst_yaw = std::max(worst_yaw, std::fabs(yawOf(estimate) - yawOf(truth)));
+    if (f > 0) {
+      EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kRegistered)
+          << "frame " << f;
+    }
+  }
+  // 44 m driven, 1 rad turned. Measured: worst 0.82 m, 0.036 rad (the simulator's exact planes
+  // and scan pattern are harder than KITTI's real street, docs/lidar_odometry.md); a registration
+  // that sticks or slips is off by metres.
+  EXPECT_NEAR(yawOf(odometry.pose()), 1.0, 0.06);
+  EXPECT_LT(worst_position, 1.2);
+  EXPECT_LT(worst_yaw, 0.06);
+  // Twist of the last frames (straight again, 8 m/s).
+  EXPECT_NEAR(odometry.linearVelocity().x(), 8.0, 0.8);
+  EXPECT_NEAR(odometry.linearVelocity().y(), 0.0, 0.8);
+  EXPECT_NEAR(odometry.angularVelocity().z(), 0.0, 0.1);
+  EXPECT_EQ(odometry.counters().degenerate, 0u);
+  EXPECT_GT(odometry.mapPoints(), 1000u);
+}
+
+TEST(LidarOdometry, MeasuresTheYawRateInTheTurn) {
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(8);
+  for (int f = 0; f <= 42; ++f) {
+    const double t = 0.1 * f;
+    odometry.registerFrame(t, scanAt(scene, t, truePose(t), rng));
+  }
+  EXPECT_NEAR(odometry.angularVelocity().z(), 0.5, 0.05);
+  EXPECT_NEAR(odometry.linearVelocity().norm(), 8.0, 0.3);
+}
+
+TEST(LidarOdometry, StraightCorridorDoesNotDiverge) {
+  // Two long smooth walls and the road: along the corridor nothing is observable. The estimate
+  // must stay finite, on the corridor's axis and level, and never run ahead of the vehicle or
+  // backwards. (It does not keep the speed: in the simulator's exact scan pattern the walls' scan
+  // lines hold it back, a known limit, docs/lidar_odometry.md.)
+  sim::Scene corridor;
+  corridor.objects.push_back(box(0.0f, 4.5f, 600.0f, 1.0f, 4.0f));
+  corridor.objects.push_back(box(0.0f, -4.5f, 600.0f, 1.0f, 4.0f));
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(9);
+  for (int f = 0; f <= 40; ++f) {
+    const double t = 0.1 * f;
+    const Eigen::Isometry3d truth = truePose(t, 8.0, false);
+    const Eigen::Isometry3d estimate = odometry.registerFrame(t, scanAt(corridor, t, truth, rng));
+    ASSERT_TRUE(estimate.matrix().allFinite());
+    EXPECT_NEAR(estimate.translation().y(), 0.0, 0.15) << "frame " << f;
+    EXPECT_NEAR(estimate.translation().z(), 0.0, 0.15) << "frame " << f;
+    EXPECT_NEAR(yawOf(estimate), 0.0, 0.01) << "frame " << f;
+    EXPECT_GT(estimate.translation().x(), -0.5) << "frame " << f;
+    EXPECT_LT(estimate.translation().x(), truth.translation().x() + 1.0) << "frame " << f;
+  }
+  EXPECT_GT(odometry.linearVelocity().x(), -1.0);
+  EXPECT_LT(odometry.linearVelocity().x(), 1.5 * 8.0);
+}
+
+TEST(LidarOdometry, TimeGoingBackwardsResets) {
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(10);
+  for (int f = 0; f <= 10; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  ASSERT_GT(odometry.pose().translation().x(), 1.0);
+  const std::size_t map_before = odometry.mapPoints();
+  // A bag loop: back to t = 0.
+  const Eigen::Isometry3d pose =
+      odometry.registerFrame(0.0, scanAt(scene, 0.0, truePose(0.0), rng));
+  EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kReset);
+  EXPECT_EQ(odometry.counters().resets, 1u);
+  EXPECT_TRUE(pose.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_EQ(odometry.linearVelocity().norm(), 0.0);
+  EXPECT_LT(odometry.mapPoints(), map_before);  // one scan's worth again
+  // And it runs on from there.
+  for (int f = 1; f <= 10; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  EXPECT_NEAR(odometry.pose().translation().x(), truePose(1.0).translation().x(), 0.2);
+
+  odometry.reset();  // explicit reset: pose and map forgotten, counters kept
+  EXPECT_TRUE(odometry.pose().isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_EQ(odometry.mapPoints(), 0u);
+  EXPECT_EQ(odometry.counters().resets, 1u);
+}
+
+TEST(LidarOdometry, EmptyTinyAndNaNInput) {
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(11);
+  // Empty before anything: identity, counted, nothing started.
+  EXPECT_TRUE(odometry.registerFrame(0.0, {}).isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kExtrapolated);
+  EXPECT_EQ(odometry.counters().extrapolated, 1u);
+  for (int f = 1; f <= 10; ++f) {
+    std::vector<Eigen::Vector3f> points = scanAt(scene, 0.1 * f, truePose(0.1 * f), rng);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    points.insert(points.begin() + points.size() / 2, Eigen::Vector3f(nan, 1.0f, 1.0f));
+    points.emplace_back(std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
+    odometry.registerFrame(0.1 * f, points);
+  }
+  EXPECT_EQ(odometry.counters().nonfinite_points, 20u);
+  EXPECT_NEAR(odometry.pose().translation().x(), truePose(1.0).translation().x(), 0.2);
+  // A tiny cloud (a few points) and an empty one: the pose carries on with the motion prior.
+  const std::vector<Eigen::Vector3f> tiny = {{5.0f, 0.0f, 0.0f}, {6.0f, 1.0f, 0.0f}};
+  odometry.registerFrame(1.1, tiny);
+  EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kExtrapolated);
+  EXPECT_NEAR(odometry.pose().translation().x(), truePose(1.1).translation().x(), 0.2);
+  odometry.registerFrame(1.2, {});
+  EXPECT_NEAR(odometry.pose().translation().x(), truePose(1.2).translation().x(), 0.25);
+  EXPECT_EQ(odometry.counters().extrapolated, 3u);
+  // And registration resumes.
+  odometry.registerFrame(1.3, scanAt(scene, 1.3, truePose(1.3), rng));
+  EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kRegistered);
+  EXPECT_NEAR(odometry.pose().translation().x(), truePose(1.3).translation().x(), 0.2);
+}
+
+TEST(LidarOdometry, UnmatchedSceneFallsBackToTheMotionPrior) {
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(12);
+  for (int f = 0; f <= 10; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  // Every point 20 m up: nothing in the map within reach (a corrupt or foreign cloud).
+  std::vector<Eigen::Vector3f> foreign = scanAt(scene, 1.1, truePose(1.1), rng);
+  for (auto& p : foreign) p.z() += 20.0f;
+  const Eigen::Isometry3d pose = odometry.registerFrame(1.1, foreign);
+  EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kDegenerate);
+  EXPECT_EQ(odometry.counters().degenerate, 1u);
+  EXPECT_NEAR(pose.translation().x(), truePose(1.1).translation().x(), 0.2);  // the prior
+  EXPECT_NEAR(pose.translation().z(), 0.0, 0.05);
+}
+
+TEST(LidarOdometry, LongGapDropsThePrior) {
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(13);
+  for (int f = 0; f <= 5; ++f)
+    odometry.registerFrame(0.1 * f, scanAt(scene, 0.1 * f, truePose(0.1 * f), rng));
+  // 2 s later, the vehicle stood still meanwhile (same place): with the prior kept the guess would
+  // be 16 m ahead; dropped, registration starts from the last pose and finds it.
+  odometry.registerFrame(2.5, scanAt(scene, 2.5, truePose(0.5), rng));
+  EXPECT_EQ(odometry.counters().gaps, 1u);
+  EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kRegistered);
+  EXPECT_NEAR(odometry.pose().translation().x(), truePose(0.5).translation().x(), 0.2);
+}
+
+TEST(LidarOdometry, ParametersAreChecked) {
+  EXPECT_EQ(validate(LidarOdometryParams()), "");
+  const auto why = [](auto edit) {
+    LidarOdometryParams p;
+    edit(p);
+    return validate(p);
+  };
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.voxel_m = 0.0; }).find("voxel_m"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_range_m = 100.0; }).find("min_range_m"),
+            std::string::npos);
+  EXPECT_NE(
+      why([](LidarOdometryParams& p) { p.max_points_per_voxel = 0; }).find("max_points_per_voxel"),
+      std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) {
+              p.max_points_per_voxel = kMaxPointsPerVoxel + 1;
+            }).find("max_points_per_voxel"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_iterations = 0; }).find("max_iterations"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.input_stride = 0; }).find("input_stride"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.min_points = 3; }).find("min_points"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) {
+              p.min_correspondence_ratio = 1.5;
+            }).find("min_correspondence_ratio"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) { p.max_dt_s = std::nan(""); }).find("max_dt_s"),
+            std::string::npos);
+  LidarOdometryParams bad;
+  bad.voxel_m = -1.0;
+  EXPECT_THROW(LidarOdometry{bad}, std::invalid_argument);
+}
+
+TEST(LidarOdometry, ProfilesCarryAValidSection) {
+  for (const char* name : {"kitti_hdl64e", "zebra", "carla_model3"}) {
+    const Profile p = loadProfile(configDir() + name + ".yaml");
+    EXPECT_EQ(validate(p.lidar_odometry), "") << name;
+  }
+  const Profile kitti = loadProfile(configDir() + "kitti_hdl64e.yaml");
+  EXPECT_EQ(kitti.lidar_odometry.input_stride, 3);  // the section is read, not the defaults
+}
+
+}  // namespace
+}  // namespace icanc

@@ -1,0 +1,96 @@
+// Pins the box fitting's footprint cells (Box3D::footprint): tight bounds of the points in each
+// occupied cell of a grid anchored at the origin, their union's bounds the axis-aligned box.
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "icanc/core/perception/box.hpp"
+
+namespace icanc {
+namespace {
+
+Cloud uShape() {  // side walls x in [2, 6] at y = +-2, an end wall at x = 6, points 0.1 m apart
+  Cloud cloud;
+  for (int i = 20; i <= 60; ++i) {
+    cloud.push_back(Point(i / 10.0f, 2.0f, 0.5f));
+    cloud.push_back(Point(i / 10.0f, -2.0f, 1.5f));
+  }
+  for (int i = -19; i <= 19; ++i) cloud.push_back(Point(6.0f, i / 10.0f, 1.0f));
+  return cloud;
+}
+
+TEST(BoxFootprint, CellsAreTightAndCoverOnlyThePoints) {
+  const Cloud cloud = uShape();
+  const Box3D box = fitBox(cloud, nullptr, 1.0f);
+  EXPECT_NEAR(box.min.x(), 2.0f, 1e-4f);
+  EXPECT_NEAR(box.max.y(), 2.0f, 1e-4f);
+  ASSERT_FALSE(box.footprint.empty());
+  Eigen::Vector2f lo = box.footprint[0].min, hi = box.footprint[0].max;
+  for (const FootprintCell& c : box.footprint) {
+    lo = lo.cwiseMin(c.min);
+    hi = hi.cwiseMax(c.max);
+    // Inside one grid cell, and tight: a corner of it is a point's coordinate.
+    EXPECT_LE(c.max.x() - c.min.x(), 1.0f);
+    EXPECT_LE(c.max.y() - c.min.y(), 1.0f);
+    // The U's inside (|y| < 1.9, x < 5.9) holds no part.
+    EXPECT_FALSE(c.min.x() < 5.9f && c.min.y() > -1.9f && c.max.y() < 1.9f) << c.min.transpose();
+  }
+  EXPECT_TRUE(lo.isApprox(box.min.head<2>(), 1e-5f));
+  EXPECT_TRUE(hi.isApprox(box.max.head<2>(), 1e-5f));
+  // Every point lies in a part.
+  for (const Point& p : cloud) {
+    bool inside = false;
+    for (const FootprintCell& c : box.footprint)
+      inside |= p.x >= c.min.x() && p.x <= c.max.x() && p.y >= c.min.y() && p.y <= c.max.y();
+    EXPECT_TRUE(inside) << p;
+  }
+  // Side walls: x cells 2..6 at y cells 2 and -2; the end wall: y cells -2..1 at x cell 6, of
+  // which (6, -2) also holds the right wall's last point.
+  EXPECT_EQ(box.footprint.size(), 5u + 5u + 4u - 1u);
+}
+
+TEST(BoxFootprint, CellsFollowTheGridNotThePointsAndNoneWhenOff) {
+  // Points on both sides of x = 1.0 fall into two cells split at the grid line; negative
+  // coordinates floor (-0.2 is cell -1).
+  const std::vector<cv::Point2f> xy{{0.8f, 0.1f}, {0.95f, 0.3f}, {1.05f, 0.2f}, {-0.2f, 0.5f}};
+  const std::vector<FootprintCell> cells = footprintCells(xy, 1.0f);
+  ASSERT_EQ(cells.size(), 3u);  // ordered by cell: x cell -1, 0, 1
+  EXPECT_FLOAT_EQ(cells[0].min.x(), -0.2f);
+  EXPECT_FLOAT_EQ(cells[1].min.x(), 0.8f);
+  EXPECT_FLOAT_EQ(cells[1].max.x(), 0.95f);
+  EXPECT_FLOAT_EQ(cells[1].min.y(), 0.1f);
+  EXPECT_FLOAT_EQ(cells[1].max.y(), 0.3f);
+  EXPECT_FLOAT_EQ(cells[2].min.x(), 1.05f);
+  EXPECT_TRUE(footprintCells(xy, 0.0f).empty());
+  // Non-finite points are skipped, by both paths (dense here; sorted with a far point).
+  std::vector<cv::Point2f> bad = xy;
+  bad.emplace_back(std::numeric_limits<float>::quiet_NaN(), 0.5f);
+  bad.emplace_back(0.5f, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(footprintCells(bad, 1.0f).size(), 3u);
+  bad.emplace_back(500.0f, 500.0f);
+  EXPECT_EQ(footprintCells(bad, 1.0f).size(), 4u);
+  EXPECT_TRUE(footprintCells({{std::numeric_limits<float>::quiet_NaN(), 1.0f}}, 1.0f).empty());
+  EXPECT_TRUE(fitBoxFootprint(xy, 0.0f, 1.0f, 4).footprint.empty());
+  EXPECT_EQ(fitBoxFootprint(xy, 0.0f, 1.0f, 4, 0.5f).footprint.size(), 3u);
+  EXPECT_EQ(fitBoxFootprint(xy, 0.0f, 1.0f, 4, 0.1f).footprint.size(), 4u);  // 0.8 | 0.95 split
+}
+
+// Points spread far apart (a grid over their cells would be mostly empty) take a sorted path: the
+// same cells, in the same order, as the dense grid gives for the compact part.
+TEST(BoxFootprint, SparsePointsGiveTheSameCellsAsTheDenseGrid) {
+  std::vector<cv::Point2f> xy;
+  for (const Point& p : uShape()) xy.emplace_back(p.x, p.y);
+  const std::vector<FootprintCell> dense = footprintCells(xy, 1.0f);
+  xy.emplace_back(-150.5f, 300.25f);  // one far point: 157 x 303 cells for 123 points
+  const std::vector<FootprintCell> sparse = footprintCells(xy, 1.0f);
+  ASSERT_EQ(sparse.size(), dense.size() + 1);
+  EXPECT_FLOAT_EQ(sparse[0].min.x(), -150.5f);  // its x cell comes first
+  EXPECT_FLOAT_EQ(sparse[0].max.y(), 300.25f);
+  for (std::size_t i = 0; i < dense.size(); ++i) {
+    EXPECT_EQ(sparse[i + 1].min, dense[i].min) << i;
+    EXPECT_EQ(sparse[i + 1].max, dense[i].max) << i;
+  }
+}
+
+}  // namespace
+}  // namespace icanc

@@ -1,0 +1,387 @@
+// FastDetector (detector.method "fast"): ground removed on flat roads and followed up slopes,
+// objects found on a slope, objects separated by the grid, organized and unorganized clouds alike,
+// no buffer growth in steady state, empty / NaN input, parameter checks, and its wiring into
+// ObstacleDetector and the YAML profile.
+#include "icanc/core/perception/fast_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "icanc/core/perception/cloud_decode.hpp"
+#include "icanc/core/perception/obstacle_detector.hpp"
+#include "icanc/core/common/yaml_params.hpp"
+#include "icanc/sim/lidar_sim.hpp"
+
+namespace icanc {
+namespace {
+
+CloudPrepParams wideRoi() {
+  CloudPrepParams prep;
+  prep.roi_min = {-20.0f, -20.0f, -5.0f};
+  prep.roi_max = {60.0f, 20.0f, 12.0f};
+  prep.ego_min = {-1.0f, -1.0f, -3.0f};
+  prep.ego_max = {1.0f, 1.0f, 3.0f};
+  return prep;
+}
+
+// Road surface z = height(x, y) sampled on a 0.2 m grid within `radius` of the origin.
+template <class Height>
+void addGround(Cloud& cloud, float radius, Height height) {
+  for (float x = -radius; x <= radius; x += 0.2f)
+    for (float y = -radius; y <= radius; y += 0.2f)
+      if (std::hypot(x, y) <= radius) cloud.push_back(Point(x, y, height(x, y)));
+}
+
+// Solid block of points from `lo` to `hi` on a `step` grid.
+void addBlock(Cloud& cloud, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, float step) {
+  for (float x = lo.x(); x <= hi.x() + 1e-4f; x += step)
+    for (float y = lo.y(); y <= hi.y() + 1e-4f; y += step)
+      for (float z = lo.z(); z <= hi.z() + 1e-4f; z += step) cloud.push_back(Point(x, y, z));
+}
+
+const float kFlat = -1.7f;
+float slope(float x) {  // flat to 10 m, then up at 8 degrees (a steep street)
+  return x < 10.0f ? kFlat : kFlat + (x - 10.0f) * std::tan(8.0f * static_cast<float>(M_PI) / 180.0f);
+}
+
+TEST(FastDetector, FlatGroundIsRemoved) {
+  Cloud cloud;
+  addGround(cloud, 40.0f, [](float, float) { return kFlat; });
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(cloud, boxes);
+  EXPECT_GT(detector.keptPoints(), 50000u);
+  EXPECT_EQ(detector.obstaclePoints(), 0u);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_NEAR(detector.groundAt(20.0f, 5.0f), kFlat, 1e-4f);
+}
+
+// A return below the floor (multipath, or a spurious range past the surface: the simulator's
+// spurious_prob) used to drag its polar cell's ground down, so the floor around it, 0.3 m above
+// that false ground, became a flat "obstacle" (pedestrian_far_away through the fast path: boxes
+// 0.01 m high over a ground of -0.4 m, 9 false danger frames).
+TEST(FastDetector, OneReturnBelowTheFloorDoesNotTurnTheFloorIntoAnObstacle) {
+  Cloud cloud;
+  addGround(cloud, 40.0f, [](float, float) { return kFlat; });
+  const std::vector<Eigen::Vector2f> holes = {{8.0f, -3.0f}, {15.0f, 6.0f}, {25.0f, 0.5f}};
+  for (const auto& at : holes) cloud.push_back(Point(at.x(), at.y(), kFlat - 0.45f));
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(cloud, boxes);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_EQ(detector.obstaclePoints(), 0u);
+  for (const auto& at : holes) EXPECT_NEAR(detector.groundAt(at.x(), at.y()), kFlat, 1e-4f);
+
+  // A real dip (a whole polar cell lower) is still followed.
+  Cloud dip;
+  addGround(dip, 40.0f, [](float x, float y) {
+    return std::hypot(x - 20.0f, y) < 2.0f ? kFlat - 0.25f : kFlat;
+  });
+  detector.detect(dip, boxes);
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_NEAR(detector.groundAt(20.0f, 0.0f), kFlat - 0.25f, 1e-4f);
+}
+
+TEST(FastDetector, GroundFollowsASlopeThatOnePlaneCannotFit) {
+  Cloud cloud;
+  addGround(cloud, 40.0f, [](float x, float) { return slope(x); });
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(cloud, boxes);
+  EXPECT_EQ(detector.obstaclePoints(), 0u);  // 30 m up the slope the road is 2.8 m higher
+  EXPECT_TRUE(boxes.empty());
+  EXPECT_NEAR(detector.groundAt(35.0f, 0.0f), slope(35.0f), 0.3f);
+
+  // The same road seen by the classic chain's single RANSAC plane leaves the far slope as
+  // obstacles: this is the case the polar ground is for.
+  ObstacleDetectorParams classic;
+  classic.prep = wideRoi();
+  classic.cluster.max_points = 1000000;
+  ObstacleDetector reference(classic);
+  reference.process(0.0, cloud);
+  EXPECT_FALSE(reference.detections().empty());
+}
+
+TEST(FastDetector, PedestrianOnTheSlopeIsFound) {
+  Cloud cloud;
+  addGround(cloud, 40.0f, [](float x, float) { return slope(x); });
+  const float base = slope(30.0f);
+  addBlock(cloud, {29.8f, 4.8f, base + 0.1f}, {30.2f, 5.2f, base + 1.7f}, 0.1f);
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(cloud, boxes);
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_NEAR(boxes[0].center.x(), 30.0f, 0.1f);
+  EXPECT_NEAR(boxes[0].center.y(), 5.0f, 0.1f);
+  EXPECT_NEAR(boxes[0].max.z(), base + 1.7f, 1e-3f);
+  // Points below obstacle_height_m above the ground belong to the road.
+  EXPECT_GE(boxes[0].min.z(), base + 0.3f - 0.15f);
+}
+
+TEST(FastDetector, ObjectsApartAreSeparateAndTouchingOnesJoin) {
+  const float z0 = kFlat + 0.4f, z1 = kFlat + 1.5f;
+  Cloud apart;
+  addGround(apart, 30.0f, [](float, float) { return kFlat; });
+  addBlock(apart, {10.0f, 0.0f, z0}, {11.0f, 1.0f, z1}, 0.1f);
+  addBlock(apart, {12.0f, 0.0f, z0}, {14.0f, 2.0f, z1}, 0.1f);  // 1 m gap
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(apart, boxes);
+  ASSERT_EQ(boxes.size(), 2u);
+  EXPECT_GT(boxes[0].num_points, boxes[1].num_points);  // largest first
+  EXPECT_NEAR(boxes[0].center.x(), 13.0f, 0.05f);
+  EXPECT_NEAR(boxes[0].size.x(), 2.0f, 0.05f);
+  EXPECT_NEAR(boxes[1].center.x(), 10.5f, 0.05f);
+
+  Cloud touching;
+  addGround(touching, 30.0f, [](float, float) { return kFlat; });
+  addBlock(touching, {10.0f, 0.0f, z0}, {11.0f, 1.0f, z1}, 0.1f);
+  addBlock(touching, {11.4f, 0.0f, z0}, {13.0f, 1.0f, z1}, 0.1f);  // 0.4 m gap < link_m
+  detector.detect(touching, boxes);
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_NEAR(boxes[0].size.x(), 3.0f, 0.05f);
+
+  FastDetectorParams tight;  // linking only the 8 neighbours: 0.4 m is then a gap
+  tight.link_m = 0.0f;
+  tight.cell_m = 0.2f;
+  FastDetector split(wideRoi(), tight);
+  split.detect(touching, boxes);
+  EXPECT_EQ(boxes.size(), 2u);
+}
+
+TEST(FastDetector, ClusterSizeLimitsApply) {
+  Cloud cloud;
+  addGround(cloud, 30.0f, [](float, float) { return kFlat; });
+  addBlock(cloud, {10.0f, 0.0f, kFlat + 0.5f}, {10.2f, 0.2f, kFlat + 0.7f}, 0.1f);  // 27 points
+  FastDetectorParams params;
+  params.min_points = 28;
+  FastDetector small(wideRoi(), params);
+  std::vector<Box3D> boxes;
+  small.detect(cloud, boxes);
+  EXPECT_TRUE(boxes.empty());
+  params.min_points = 27;
+  FastDetector enough(wideRoi(), params);
+  enough.detect(cloud, boxes);
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_EQ(boxes[0].num_points, 27);
+  params.min_points = 1;
+  params.max_points = 26;
+  FastDetector large(wideRoi(), params);
+  large.detect(cloud, boxes);
+  EXPECT_TRUE(boxes.empty());
+}
+
+sim::Scene street() {
+  sim::Scene scene;
+  scene.ground_z = 0.0f;
+  sim::SceneObject car;
+  car.type = "car";
+  car.size = {4.5f, 1.8f, 1.5f};
+  car.position = {15.0f, 3.0f, 0.0f};
+  car.yaw = -0.3f;  // the long side faces the sensor (at grazing angles it breaks up)
+  sim::SceneObject walker;
+  walker.type = "pedestrian";
+  walker.shape = sim::Shape::kCylinder;
+  walker.size = {0.5f, 0.5f, 1.7f};
+  walker.position = {8.0f, -4.0f, 0.0f};
+  scene.objects = {car, walker};
+  return scene;
+}
+
+Cloud renderStreet() {
+  std::mt19937_64 rng(7);
+  Cloud organized;
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translation() = Eigen::Vector3f(0.0f, 0.0f, 1.73f);  // roof sensor; cloud in sensor frame
+  sim::renderScan(street(), 0.0, pose, sim::LidarModel::hdl64e(), sim::NoiseParams(), rng,
+                  organized);
+  return organized;
+}
+
+TEST(FastDetector, OrganizedAndUnorganizedCloudsGiveTheSameObjects) {
+  const Cloud organized = renderStreet();
+  ASSERT_EQ(organized.height, 64u);
+  Cloud unorganized;  // no NaNs, no rows, shuffled: no beam order to rely on
+  for (const Point& p : organized)
+    if (std::isfinite(p.x)) unorganized.push_back(p);
+  std::shuffle(unorganized.points.begin(), unorganized.points.end(), std::mt19937(3));
+
+  CloudPrepParams prep = wideRoi();
+  prep.roi_min.z() = -2.5f;
+  prep.roi_max.z() = 2.0f;
+  FastDetector a(prep, FastDetectorParams()), b(prep, FastDetectorParams());
+  std::vector<Box3D> from_organized, from_unorganized;
+  a.detect(organized, from_organized);
+  b.detect(unorganized, from_unorganized);
+  ASSERT_EQ(from_organized.size(), 2u);
+  ASSERT_EQ(from_unorganized.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(from_organized[i].num_points, from_unorganized[i].num_points);
+    EXPECT_TRUE(from_organized[i].center.isApprox(from_unorganized[i].center, 1e-4f));
+  }
+  // Sensor frame: the ground is 1.73 m below; the car (largest; only its near sides are seen,
+  // so its box centre sits toward the sensor) and the pedestrian.
+  EXPECT_NEAR(a.groundAt(12.0f, 0.0f), -1.73f, 0.05f);
+  EXPECT_NEAR(from_organized[0].center.x(), 15.0f, 0.6f);
+  EXPECT_NEAR(from_organized[0].center.y(), 3.0f, 0.8f);
+  EXPECT_NEAR(from_organized[1].center.x(), 8.0f, 0.4f);
+  EXPECT_NEAR(from_organized[1].center.y(), -4.0f, 0.4f);
+}
+
+TEST(FastDetector, NoBufferGrowsInSteadyState) {
+  const Cloud cloud = renderStreet();
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes;
+  detector.detect(cloud, boxes);
+  const std::size_t bytes = detector.capacityBytes();
+  const Box3D* data = boxes.data();
+  for (int i = 0; i < 20; ++i) detector.detect(cloud, boxes);
+  EXPECT_EQ(detector.capacityBytes(), bytes);
+  EXPECT_EQ(boxes.data(), data);  // the caller's box vector is reused too
+  EXPECT_EQ(boxes.size(), 2u);
+}
+
+TEST(FastDetector, EmptyAndNonFiniteInputGiveNoObjects) {
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  std::vector<Box3D> boxes(3);
+  detector.detect(Cloud(), boxes);
+  EXPECT_TRUE(boxes.empty());
+  Cloud bad;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  for (int i = 0; i < 100; ++i) {
+    bad.push_back(Point(nan, 1.0f, 0.0f));
+    bad.push_back(Point(10.0f, inf, 0.0f));
+    bad.push_back(Point(0.0f, 0.0f, 0.0f));
+    bad.push_back(Point(1e30f, 0.0f, 0.0f));  // outside the ROI
+  }
+  detector.detect(bad, boxes);
+  EXPECT_EQ(detector.keptPoints(), 0u);
+  EXPECT_TRUE(boxes.empty());
+}
+
+TEST(FastDetector, InvalidParametersAreNamed) {
+  EXPECT_EQ(validate(FastDetectorParams()), "");
+  FastDetectorParams p;
+  p.cell_m = 0.0f;
+  EXPECT_NE(validate(p).find("fast.cell_m"), std::string::npos);
+  p = FastDetectorParams();
+  p.sectors = 2;
+  EXPECT_NE(validate(p).find("fast.sectors"), std::string::npos);
+  p = FastDetectorParams();
+  p.max_slope_deg = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(validate(p).find("fast.max_slope_deg"), std::string::npos);
+  p = FastDetectorParams();
+  p.max_height_m = 0.1f;
+  EXPECT_NE(validate(p).find("fast.max_height_m"), std::string::npos);
+  p = FastDetectorParams();
+  p.max_points = 5;
+  EXPECT_NE(validate(p).find("fast.max_points"), std::string::npos);
+  EXPECT_THROW(FastDetector(wideRoi(), p), std::invalid_argument);
+
+  ObstacleDetectorParams d;
+  d.method = parseDetectorMethod("fastest");
+  EXPECT_NE(validate(d).find("method"), std::string::npos);
+  d.method = parseDetectorMethod("fast");
+  EXPECT_EQ(validate(d), "");
+  d.footprint_cell_m = -1.0f;
+  EXPECT_NE(validate(d).find("footprint_cell_m"), std::string::npos);
+  d.footprint_cell_m = 0.0f;  // off
+  EXPECT_EQ(validate(d), "");
+  d.fast.cell_m = 0.05f;
+  d.prep.roi_min = {-5000.0f, -5000.0f, -3.0f};
+  d.prep.roi_max = {5000.0f, 5000.0f, 3.0f};
+  EXPECT_NE(validate(d).find("fast.cell_m"), std::string::npos);
+}
+
+TEST(FastDetector, ObstacleDetectorRunsEitherMethodAndTracks) {
+  const Cloud cloud = renderStreet();
+  ObstacleDetectorParams params;
+  params.prep = wideRoi();
+  params.method = DetectorMethod::kFast;
+  ObstacleDetector fast(params);
+  ASSERT_NE(fast.fast(), nullptr);
+  for (int i = 0; i < 3; ++i) fast.process(0.1 * i, cloud);
+  EXPECT_EQ(fast.detections().size(), 2u);
+  int confirmed = 0;
+  for (const Track& t : fast.tracks()) confirmed += t.confirmed;
+  EXPECT_EQ(confirmed, 2);
+
+  // processFrom (points straight from a decoder) gives the same boxes as process.
+  ObstacleDetector streamed(params);
+  streamed.processFrom(0.0, [&cloud](auto&& sink) {
+    for (const Point& p : cloud) sink(p.x, p.y, p.z);
+  });
+  ASSERT_EQ(streamed.detections().size(), 2u);
+  EXPECT_TRUE(streamed.detections()[0].center.isApprox(fast.detections()[0].center, 1e-5f));
+
+  params.method = DetectorMethod::kClassic;
+  fast.setParams(params);
+  EXPECT_EQ(fast.fast(), nullptr);
+}
+
+// The nodelet's fused path: the fast detector reading a PointCloud2-shaped buffer in its first
+// pass gives what decoding into a cloud and then detecting gives.
+TEST(FastDetector, DetectingStraightFromTheMessageMatchesDecodingFirst) {
+  const Cloud organized = renderStreet();  // 64 rows with NaN returns, x y z + padding
+  RawCloud raw;
+  raw.width = organized.width;
+  raw.height = organized.height;
+  raw.point_step = sizeof(Point);
+  raw.row_step = raw.width * raw.point_step;
+  raw.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
+  raw.data = reinterpret_cast<const std::uint8_t*>(organized.points.data());
+  raw.data_size = organized.size() * sizeof(Point);
+  Eigen::Affine3f to_base = Eigen::Affine3f::Identity();
+  to_base.translation() = Eigen::Vector3f(1.0f, 0.0f, 1.73f);  // sensor -> base_link
+
+  ObstacleDetectorParams params;
+  params.prep = wideRoi();
+  params.method = DetectorMethod::kFast;
+  ObstacleDetector decoded_first(params), fused(params);
+  Cloud cloud;
+  DecodeStats decode_stats, fused_stats;
+  ASSERT_EQ(decodeXYZ(raw, to_base, 1000000, cloud, &decode_stats), DecodeError::kNone);
+  decoded_first.process(0.0, cloud);
+  DecodePlan plan;
+  ASSERT_EQ(planDecode(raw, 1000000, plan), DecodeError::kNone);
+  fused.processFrom(0.0, [&](auto&& sink) { fused_stats = forEachXYZ(raw, plan, to_base, sink); });
+
+  EXPECT_EQ(fused_stats.kept, decode_stats.kept);
+  EXPECT_EQ(fused_stats.dropped_nonfinite, decode_stats.dropped_nonfinite);
+  EXPECT_GT(fused_stats.dropped_nonfinite, 0u);  // the sky
+  ASSERT_EQ(fused.detections().size(), 2u);
+  ASSERT_EQ(decoded_first.detections().size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(fused.detections()[i].num_points, decoded_first.detections()[i].num_points);
+    EXPECT_TRUE(fused.detections()[i].center.isApprox(decoded_first.detections()[i].center, 1e-6f));
+  }
+  EXPECT_NEAR(fused.detections()[0].center.x(), 15.0f + 1.0f, 0.6f);  // in base_link
+}
+
+TEST(FastDetector, ProfileSelectsTheMethod) {
+  const std::string path = ::testing::TempDir() + "icanc_fast_profile.yaml";
+  {
+    std::ofstream out(path);
+    out << "obstacle_detector:\n  method: fast\n  fast:\n    cell_m: 0.5\n    sectors: 90\n";
+  }
+  const Profile profile = loadProfile(path);
+  EXPECT_EQ(profile.detector.method, DetectorMethod::kFast);
+  EXPECT_FLOAT_EQ(profile.detector.fast.cell_m, 0.5f);
+  EXPECT_EQ(profile.detector.fast.sectors, 90);
+  {
+    std::ofstream out(path);
+    out << "obstacle_detector:\n  method: quick\n";
+  }
+  EXPECT_THROW(loadProfile(path), std::runtime_error);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace icanc
