@@ -57,6 +57,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     ego_reader.read("max_speed_mps", ego_params.max_speed_mps);
     ego_reader.read("max_yaw_rate_rad_s", ego_params.max_yaw_rate_rad_s);
     ego_reader.read("max_wait_s", ego_params.max_wait_s);
+    ego_reader.read("replay_max_wait_s", ego_params.replay_max_wait_s);
     ego_reader.read("max_extrapolation_s", ego_params.max_extrapolation_s);
     ego_reader.accept("publish_tf");  // LidarOdometry's
     std::string ego_why = validate(ego_params);
@@ -89,10 +90,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   }
 
   // Sensor -> target frame at the cloud's stamp (latest transform as a fallback). On failure,
-  // boxes stay in the sensor frame, with a throttled warning.
+  // boxes stay in the sensor frame, with a throttled warning (the DangerDetector refuses them: no
+  // danger is judged in the wrong frame, and its watchdog lights the lamp).
   std::string lookupTransform(const std_msgs::Header& header, Eigen::Affine3f& transform) {
     transform.setIdentity();
     if (target_frame_.empty() || target_frame_ == header.frame_id) return header.frame_id;
+    waitForMountAtStartup(header.frame_id);
     try {
       geometry_msgs::TransformStamped t;
       try {
@@ -101,6 +104,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
         t = tf_buffer_->lookupTransform(target_frame_, header.frame_id, ros::Time(0));
       }
       transform = tf2::transformToEigen(t).cast<float>();
+      mount_seen_ = true;
       return target_frame_;
     } catch (const tf2::TransformException& e) {
       ++tf_failures_;
@@ -109,6 +113,24 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
                             header.frame_id.c_str());
       return header.frame_id;
     }
+  }
+
+  // The first clouds may come before the sensor's mount on /tf_static (a driver started before the
+  // robot_state_publisher, a bag whose latched transform arrives a moment later): wait for it, up
+  // to kMountStartupWaitS of wall time in all, instead of publishing the first boxes in the
+  // sensor's frame. Once a transform was found, or the budget is spent, no more waiting.
+  void waitForMountAtStartup(const std::string& sensor_frame) {
+    if (mount_seen_ || mount_wait_left_s_ <= 0.0) return;
+    const ros::WallTime start = ros::WallTime::now();
+    while (!tf_buffer_->canTransform(target_frame_, sensor_frame, ros::Time(0)) && ros::ok()) {
+      if ((ros::WallTime::now() - start).toSec() >= mount_wait_left_s_) break;
+      ros::WallDuration(0.005).sleep();
+    }
+    mount_wait_left_s_ -= (ros::WallTime::now() - start).toSec();
+    if (mount_wait_left_s_ <= 0.0)
+      NODELET_WARN("no transform %s -> %s within %.1f s of the first cloud: is the sensor's mount "
+                   "published (static_transform_publisher, robot_state_publisher)?",
+                   sensor_frame.c_str(), target_frame_.c_str(), kMountStartupWaitS);
   }
 
   void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -202,8 +224,9 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     if (ego_.params().source == EgoMotionSource::kNone) return EgoStep();
     Eigen::Isometry3d pose;
     std::string why;
-    const bool found = frame == target_frame_ &&
-                       ego_source_->lookup(stamp, frame, ego_.params().max_wait_s, pose, why);
+    const double wait_s = ros::Time::isSimTime() ? ego_.params().replay_max_wait_s
+                                                 : ego_.params().max_wait_s;
+    const bool found = frame == target_frame_ && ego_source_->lookup(stamp, frame, wait_s, pose, why);
     if (!found && why.empty()) why = "boxes are not in the vehicle frame " + target_frame_;
     const EgoStep step = ego_.update(stamp.toSec(), found ? &pose : nullptr);
     ++ego_counts_[step.status];
@@ -232,11 +255,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     // other way round.
     const bool over_ground = step.status != EgoStep::Status::kNone &&
                              step.status != EgoStep::Status::kLost;
-    if (over_ground != ego_over_ground_) {
+    if (ego_frames_ > 0 && over_ground != ego_over_ground_) {  // the first frame starts, not restarts
       if (detector_) detector_->reset();
       ++ego_restarts_;
     }
     ego_over_ground_ = over_ground;
+    ++ego_frames_;
     return step;
   }
 
@@ -287,11 +311,15 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<EgoPoseSource> ego_source_;
+  static constexpr double kMountStartupWaitS = 2.0;
+  bool mount_seen_ = false;                       // a sensor -> target transform was found
+  double mount_wait_left_s_ = kMountStartupWaitS;  // start-up wait budget left [s]
   EgoMotion ego_;
   std::string fixed_frame_ = "odom";
   std::map<EgoStep::Status, std::uint64_t> ego_counts_;
   std::uint64_t ego_restarts_ = 0, reported_ego_faults_ = 0;
   bool ego_over_ground_ = false;
+  std::uint64_t ego_frames_ = 0;  // frames through egoStep
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   std::unique_ptr<LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>> live_;

@@ -162,6 +162,7 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
       f.ego_yaw_rate = arrays[stamp]->ego_twist.angular.z;
       const std::string& ego = arrays[stamp]->ego_motion_status;
       f.ego_motion = ego == "measured" || ego == "extrapolated" || ego == "jump";
+      f.ego_motion_fault = ego == "extrapolated" || ego == "jump" || ego == "lost";
       f.lamp_on = answers[stamp]->on;
       f.latency_ms = answers[stamp]->input_latency_ms;
       arrays.erase(arrays.begin(), arrays.upper_bound(stamp));

@@ -22,26 +22,21 @@ EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
 
 bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_frame,
                            double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
-  // Wait only for a source that has published before: a vehicle configured for a pose it never
-  // publishes must not lose max_wait_s of latency on every cloud.
-  if (!hasPublished(vehicle_frame)) max_wait_s = 0.0;
+  // A source silent for several clouds is not waited for: a vehicle configured for a pose it does
+  // not publish must not lose max_wait_s of latency on every cloud.
+  if (consecutive_misses_ >= kMissesBeforeNoWait) max_wait_s = 0.0;
+  bool found = false;
   switch (source_) {
     case EgoMotionSource::kTf:
-    case EgoMotionSource::kLidar: return lookupTf(stamp, vehicle_frame, max_wait_s, pose, why);
-    case EgoMotionSource::kOdometry: return lookupOdometry(stamp, vehicle_frame, max_wait_s, pose, why);
+    case EgoMotionSource::kLidar: found = lookupTf(stamp, vehicle_frame, max_wait_s, pose, why); break;
+    case EgoMotionSource::kOdometry:
+      found = lookupOdometry(stamp, vehicle_frame, max_wait_s, pose, why);
+      break;
     case EgoMotionSource::kNone:
-    case EgoMotionSource::kInvalid: break;
+    case EgoMotionSource::kInvalid: why = "no ego motion source"; break;
   }
-  why = "no ego motion source";
-  return false;
-}
-
-bool EgoPoseSource::hasPublished(const std::string& vehicle_frame) {
-  if (source_ == EgoMotionSource::kOdometry) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return !odometry_.empty();
-  }
-  return tf_.canTransform(fixed_frame_, vehicle_frame, ros::Time(0));
+  consecutive_misses_ = found ? 0 : consecutive_misses_ + 1;
+  return found;
 }
 
 bool EgoPoseSource::lookupTf(const ros::Time& stamp, const std::string& vehicle_frame,

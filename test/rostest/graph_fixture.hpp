@@ -63,7 +63,8 @@ struct Recorder {
 
 class GraphFixture {
  public:
-  explicit GraphFixture(const std::string& scenario_file)
+  // publish_mount false: the sensor's mount is sent only by publishMount() (a late /tf_static).
+  explicit GraphFixture(const std::string& scenario_file, bool publish_mount = true)
       : scenario_(sim::loadScenario(scenarioPath(scenario_file))),
         model_(sim::LidarModel::byName(scenario_.lidar)),
         rng_(scenario_.seed) {
@@ -71,6 +72,10 @@ class GraphFixture {
     state_sub_ = nh_.subscribe("/icanc/light_state", 100, &Recorder::onState, &rec_);
     array_sub_ = nh_.subscribe("/icanc/obstacles_danger", 100, &Recorder::onArray, &rec_);
     detections_sub_ = nh_.subscribe("/icanc/obstacles", 100, &Recorder::onDetections, &rec_);
+    if (publish_mount) publishMount();
+  }
+
+  void publishMount() {
     geometry_msgs::TransformStamped mount = tf2::eigenToTransform(scenario_.sensor_mount.cast<double>());
     mount.header.stamp = ros::Time::now();
     mount.header.frame_id = scenario_.vehicle_frame;

@@ -113,6 +113,9 @@ TEST_F(EgoMotionFaults, EveryFrameIsAnsweredWhateverThePosesDo) {
   // The last report counts the jump, so every fault is in it.
   EXPECT_TRUE(waitFor([&] { return counter("ego motion frames: jump") == 1; }, 5.0));
   EXPECT_EQ(counter("ego motion frames: lost"), 1);
+  // Two restarts of the tracks: at the loss (relative from then on) and when poses came back; the
+  // first frame starts the tracks, it does not restart them.
+  EXPECT_EQ(counter("ego motion restarts of the tracks"), 2);
   EXPECT_GE(counter("ego motion frames: extrapolated"), 4);
 }
 

@@ -192,9 +192,17 @@ TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
   ASSERT_TRUE(a);
   EXPECT_TRUE(a->obstacles.empty()) << "cluster_min_points not applied";
   // min_points above max_points is refused (validate(ClusterParams)).
+  const long detector_rejected = rejected("obstacle detector");
   detector.cluster_min_points = 6000;
   ASSERT_TRUE(detector_.setConfiguration(detector));
   EXPECT_EQ(detector.cluster_min_points, 4000);
+  // Issue 21: out of validate()'s range is refused, not clamped by the .cfg (a tolerance of -1 used
+  // to become 0.05 and count as accepted).
+  detector.cluster_tolerance_m = -1.0;
+  ASSERT_TRUE(detector_.setConfiguration(detector));
+  EXPECT_DOUBLE_EQ(detector.cluster_tolerance_m, 0.6);
+  EXPECT_TRUE(waitFor([&] { return rejected("obstacle detector") >= detector_rejected + 2; }, 5.0))
+      << "rejections not counted: detector " << rejected("obstacle detector");
 }
 
 }  // namespace

@@ -26,16 +26,17 @@ class EgoPoseSource {
                 tf2_ros::Buffer& tf);
 
   // The pose of vehicle_frame in the fixed frame at `stamp`, waiting at most max_wait_s (wall
-  // clock: the source may publish a moment after the cloud arrives; no wait while the source has
-  // never published). False, with the reason, when there is none by then (the caller
-  // extrapolates and counts).
+  // clock: the source may publish a moment after the cloud arrives). After kMissesBeforeNoWait
+  // clouds in a row without a pose it stops waiting until a pose comes again, so a source that is
+  // configured but silent costs no latency on every cloud; the first cloud waits like the others
+  // (a replay's first frame must not depend on which message arrived first). False, with the
+  // reason, when there is none by then (the caller extrapolates and counts).
   bool lookup(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
               Eigen::Isometry3d& fixed_T_vehicle, std::string& why);
 
-  const std::string& fixedFrame() const { return fixed_frame_; }
+  static constexpr int kMissesBeforeNoWait = 3;
 
  private:
-  bool hasPublished(const std::string& vehicle_frame);
   bool lookupTf(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
                 Eigen::Isometry3d& pose, std::string& why);
   bool lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
@@ -55,6 +56,7 @@ class EgoPoseSource {
   };
   std::deque<Stamped> odometry_;  // by stamp, the last few seconds
   std::string odometry_child_frame_;
+  int consecutive_misses_ = 0;  // lookups in a row that found no pose
 };
 
 }  // namespace icanc

@@ -153,6 +153,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   for (const EvalFrame& f : frames) {
     if (!f.processed) continue;
     ++r.processed;
+    r.ego_motion_faults += f.ego_motion_fault;
     const bool has_ego = f.ego_motion;
     on_frames += f.lamp_on;
     bool any_truly_dangerous = false;
@@ -327,7 +328,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
   const double lead_p50 = percentile(r.lead_times_s, 0.5);
   std::snprintf(buf, sizeof(buf),
       "== %s ==\n"
-      "frames %zu (processed %zu)\n"
+      "frames %zu (processed %zu, ego motion extrapolated, jumped or lost in %zu)\n"
       "danger per object-frame: TP %llu FP %llu FN %llu TN %llu (false alarms without a true object: %llu)\n"
       "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
@@ -338,7 +339,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
       "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n"
       "danger model on perfect tracks: TP %llu FP %llu FN %llu TN %llu, precision %.2f %%  recall %.2f %%\n",
-      title.c_str(), r.frames, r.processed,
+      title.c_str(), r.frames, r.processed, r.ego_motion_faults,
       static_cast<unsigned long long>(r.danger.tp), static_cast<unsigned long long>(r.danger.fp),
       static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
       static_cast<unsigned long long>(r.false_alarms_unmatched),
@@ -365,7 +366,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
       << ", \"tn\": " << c.tn << ", \"precision\": " << c.precision() << ", \"recall\": "
       << c.recall() << ", \"accuracy\": " << c.accuracy() << ", \"f1\": " << c.f1() << "}";
   };
-  j << "{\"name\": \"" << name << "\", \"frames\": " << r.frames << ", \"processed\": " << r.processed << ", ";
+  j << "{\"name\": \"" << name << "\", \"frames\": " << r.frames << ", \"processed\": " << r.processed
+    << ", \"ego_motion_faults\": " << r.ego_motion_faults << ", ";
   conf("danger", r.danger);
   j << ", \"false_alarms_unmatched\": " << r.false_alarms_unmatched;
   j << ", \"episodes\": " << r.episodes << ", \"caught\": " << r.caught << ", \"lead_times_s\": [";

@@ -67,6 +67,8 @@ std::string validate(const EgoMotionParams& p) {
     why << "ego_motion/max_yaw_rate_rad_s must be > 0 (got " << p.max_yaw_rate_rad_s << ")";
   } else if (!(p.max_wait_s >= 0.0 && p.max_wait_s <= 1.0)) {
     why << "ego_motion/max_wait_s must be in [0, 1] (got " << p.max_wait_s << ")";
+  } else if (!(p.replay_max_wait_s >= 0.0 && p.replay_max_wait_s <= 4.0)) {
+    why << "ego_motion/replay_max_wait_s must be in [0, 4] (got " << p.replay_max_wait_s << ")";
   } else if (!(p.max_extrapolation_s >= 0.0 && p.max_extrapolation_s <= 5.0)) {
     why << "ego_motion/max_extrapolation_s must be in [0, 5] (got " << p.max_extrapolation_s << ")";
   }

@@ -399,9 +399,12 @@ TEST(Evaluate, StaticObjectsSpeedOverGround) {
     f.ego_velocity = Eigen::Vector2d(10.0, 0.0);
     f.ego_yaw_rate = 0.1;
     f.ego_motion = i != 3;  // the last frame had no ego motion: not counted
+    f.ego_motion_fault = i == 3;
     frames.push_back(f);
   }
   const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.ego_motion_faults, 1u);
+  EXPECT_NE(toTable(r, "x").find("ego motion extrapolated, jumped or lost in 1)"), std::string::npos);
   EXPECT_EQ(r.static_speed_samples, 3u);
   EXPECT_NEAR(r.static_speed_p50_mps, 0.2, 1e-9);
   EXPECT_NE(toJson(r, "x").find("\"static_speed_mps\": {\"p50\": 0.2"), std::string::npos);

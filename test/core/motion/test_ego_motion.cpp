@@ -36,6 +36,11 @@ TEST(EgoMotion, ParsesSourcesAndValidates) {
   p = EgoMotionParams();
   p.max_wait_s = 2.0;
   EXPECT_NE(validate(p).find("max_wait_s"), std::string::npos);
+  p = EgoMotionParams();
+  p.replay_max_wait_s = 5.0;  // beyond the replay's 5 s answer timeout
+  EXPECT_NE(validate(p).find("replay_max_wait_s"), std::string::npos);
+  p.replay_max_wait_s = -0.1;
+  EXPECT_NE(validate(p).find("replay_max_wait_s"), std::string::npos);
 }
 
 TEST(EgoPrediction, QuarterCircleAndStraightLine) {

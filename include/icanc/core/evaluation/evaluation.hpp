@@ -55,6 +55,10 @@ struct EvalFrame {
   Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
   double ego_yaw_rate = 0.0;
   bool ego_motion = false;  // the twist was measured (or carried over a missing pose)
+  // The pose was missing, jumped or lost at this frame (ObstacleArray.ego_motion_status
+  // extrapolated / jump / lost): in a replay of a bag that carries the poses, a run whose result
+  // depends on timing, not on the data.
+  bool ego_motion_fault = false;
 };
 
 struct EvalParams {
@@ -84,6 +88,7 @@ struct Confusion {
 
 struct EvalReport {
   std::size_t frames = 0, processed = 0;
+  std::size_t ego_motion_faults = 0;  // processed frames with EvalFrame::ego_motion_fault
   // Per object-frame: eligible true objects (flagged when their matched detection, or a fragment
   // of them, is dangerous) and false alarms. A fragment is a detection left over by the one-to-one
   // matching within EvalParams::match_distance_m of a true object's footprint.

@@ -25,8 +25,14 @@ struct EgoMotionParams {
   // the step is replaced by the last twist over the frame's dt and the pose re-based.
   double max_speed_mps = 70.0;          // [m/s]
   double max_yaw_rate_rad_s = 2.0;      // [rad/s]
-  // How long the nodelet waits for the pose at a cloud's stamp before it extrapolates [s].
+  // How long the nodelet waits for the pose at a cloud's stamp before it extrapolates [s] (wall
+  // clock) ...
   double max_wait_s = 0.1;
+  // ... and how long under sim time (a bag replayed with /clock): there the pose is published
+  // before the cloud (icanc bag replay, rosbag play) or computed from it (LidarOdometry), and a
+  // loaded machine must not turn a measured frame into an extrapolated one (a replay that depends
+  // on the CPU's load is not a regression test) [s].
+  double replay_max_wait_s = 2.0;
   // A pose missing for longer than this (extrapolated frames in a row, in seconds of stamps) drops
   // the motion: the vehicle is taken to stand still again until poses come back [s].
   double max_extrapolation_s = 0.5;

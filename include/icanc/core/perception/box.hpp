@@ -4,7 +4,7 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <opencv2/core/common/types.hpp>
+#include <opencv2/core/types.hpp>
 
 #include "icanc/core/common/types.hpp"
 

@@ -28,7 +28,7 @@
 #include <utility>
 #include <vector>
 
-#include <opencv2/core/common/types.hpp>
+#include <opencv2/core/types.hpp>
 
 #include "icanc/core/common/always_inline.hpp"
 #include "icanc/core/perception/box.hpp"
