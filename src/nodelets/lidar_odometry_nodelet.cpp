@@ -71,13 +71,8 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     mount.setIdentity();
     if (header.frame_id == base_frame_) return true;
     try {
-      geometry_msgs::TransformStamped t;
-      try {
-        t = tf_buffer_->lookupTransform(base_frame_, header.frame_id, header.stamp);
-      } catch (const tf2::ExtrapolationException&) {
-        t = tf_buffer_->lookupTransform(base_frame_, header.frame_id, ros::Time(0));
-      }
-      mount = tf2::transformToEigen(t).cast<float>();
+      mount = tf2::transformToEigen(
+          lookupAtStampOrLatest(*tf_buffer_, base_frame_, header.frame_id, header.stamp)).cast<float>();
       return true;
     } catch (const tf2::TransformException& e) {
       ++tf_failures_;

@@ -97,13 +97,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     if (target_frame_.empty() || target_frame_ == header.frame_id) return header.frame_id;
     waitForMountAtStartup(header.frame_id);
     try {
-      geometry_msgs::TransformStamped t;
-      try {
-        t = tf_buffer_->lookupTransform(target_frame_, header.frame_id, header.stamp);
-      } catch (const tf2::ExtrapolationException&) {
-        t = tf_buffer_->lookupTransform(target_frame_, header.frame_id, ros::Time(0));
-      }
-      transform = tf2::transformToEigen(t).cast<float>();
+      transform = tf2::transformToEigen(
+          lookupAtStampOrLatest(*tf_buffer_, target_frame_, header.frame_id, header.stamp)).cast<float>();
       mount_seen_ = true;
       return target_frame_;
     } catch (const tf2::TransformException& e) {

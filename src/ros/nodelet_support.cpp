@@ -9,6 +9,17 @@
 
 namespace icanc {
 
+geometry_msgs::TransformStamped lookupAtStampOrLatest(const tf2_ros::Buffer& buffer,
+                                                      const std::string& target,
+                                                      const std::string& source,
+                                                      const ros::Time& stamp) {
+  try {
+    return buffer.lookupTransform(target, source, stamp);
+  } catch (const tf2::ExtrapolationException&) {
+    return buffer.lookupTransform(target, source, ros::Time(0));
+  }
+}
+
 bool checkParams(const std::string& name, const ParamReader& reader, const std::string& validation) {
   for (const std::string& key : reader.unknownKeys()) {
     ROS_WARN_NAMED(name, "[%s] unknown parameter %s is ignored (typo?)", name.c_str(), key.c_str());

@@ -10,8 +10,10 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/publisher.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <ros/node_handle.h>
 #include <ros/timer.h>
+#include <tf2_ros/buffer.h>
 
 #include "icanc/ros/param_reader.hpp"
 
@@ -20,6 +22,13 @@ namespace icanc {
 // Logs every problem with the parameters read by `reader` plus `validation` (the core's
 // validate() result) under `name`. Returns false when the nodelet must not start.
 bool checkParams(const std::string& name, const ParamReader& reader, const std::string& validation);
+
+// target <- source at `stamp`, else the latest one (a static mount sent once, long before the
+// cloud). Throws tf2::TransformException when there is none.
+geometry_msgs::TransformStamped lookupAtStampOrLatest(const tf2_ros::Buffer& buffer,
+                                                      const std::string& target,
+                                                      const std::string& source,
+                                                      const ros::Time& stamp);
 
 // A diagnostic_updater whose update() runs from a 1 Hz timer of `nh`.
 class Diagnostics {
