@@ -132,8 +132,9 @@ struct EvalReport {
   // perfect perception: each scored true object's own box (its axis-aligned bounds, and its
   // oriented footprint as parts of at most 0.15 m, as icanc/Obstacle's footprint), relative
   // velocity (zero where the labels give none), no velocity uncertainty and no footprint margin
-  // (the true box lacks nothing the LiDAR did not see), scored per object-frame as `danger`. What it misses is the model's, or the truth's (a pedestrian who will
-  // stop, or start, is labelled by where it will be): `danger` below this is perception's.
+  // (the true box lacks nothing the LiDAR did not see), scored per object-frame as `danger`.
+  // What it misses is the model's, or the truth's (a pedestrian who will stop, or start, is
+  // labelled by where it will be): `danger` below this is perception's.
   Confusion perfect_tracks;
 };
 
