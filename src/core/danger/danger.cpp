@@ -8,6 +8,34 @@
 #include "icanc/core/motion/ego_motion.hpp"
 
 namespace icanc {
+namespace {
+
+// True when the rectangle with these corners (in order around it, any orientation) overlaps the
+// axis-aligned box [lo, hi]: separating axes, the box's two and the rectangle's two.
+bool rectangleOverlapsBox(const Eigen::Vector2d (&corners)[4], const Eigen::Vector2d& lo,
+                          const Eigen::Vector2d& hi) {
+  Eigen::AlignedBox2d bounds;
+  for (const Eigen::Vector2d& c : corners) bounds.extend(c);
+  if (!((bounds.max().array() >= lo.array()).all() && (bounds.min().array() <= hi.array()).all()))
+    return false;
+  const Eigen::Vector2d box[4] = {lo, Eigen::Vector2d(hi.x(), lo.y()), hi,
+                                  Eigen::Vector2d(lo.x(), hi.y())};
+  for (int edge = 0; edge < 2; ++edge) {
+    const Eigen::Vector2d d = corners[edge + 1] - corners[edge];
+    const Eigen::Vector2d axis(-d.y(), d.x());
+    double r_min = 1e300, r_max = -1e300, b_min = 1e300, b_max = -1e300;
+    for (int i = 0; i < 4; ++i) {
+      r_min = std::min(r_min, axis.dot(corners[i]));
+      r_max = std::max(r_max, axis.dot(corners[i]));
+      b_min = std::min(b_min, axis.dot(box[i]));
+      b_max = std::max(b_max, axis.dot(box[i]));
+    }
+    if (r_max < b_min || b_max < r_min) return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 const char* toString(Section section) {
   switch (section) {
@@ -57,6 +85,9 @@ std::string validate(const DangerParams& params) {
     why << "danger.static_prior_k must be in [0, 10] (got " << params.static_prior_k << ")";
   else if (!(params.footprint_margin_m >= 0.0))
     why << "danger.footprint_margin_m must be >= 0 (got " << params.footprint_margin_m << ")";
+  else if (!(params.max_heading_change_rad >= 0.0 && params.max_heading_change_rad <= M_PI))
+    why << "danger.max_heading_change_rad must be in [0, pi] (0: no cap; got "
+        << params.max_heading_change_rad << ")";
   else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
     why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
   else if (params.on_frames < 1)
@@ -128,27 +159,23 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
     const double grow_y = params.footprint_margin_m +
                           std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
     // Where the vehicle will be, and the object's displacement seen from there.
-    const PlanarPose ego = predictEgoPose(ego_v, ego_w, t);
+    const PlanarPose ego = predictEgoPose(ego_v, ego_w, t, params.max_heading_change_rad);
     const Eigen::Rotation2Dd to_future(-ego.yaw);
     const Eigen::Vector2d shift = ground_v * t - ego.position;
-    // A part of the footprint, moved and seen from the future vehicle frame: the bounds of its
-    // corners (exact for a vehicle going straight, where it only moves).
-    const auto moved = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
-      if (!turning) return Eigen::AlignedBox2d(min + shift, max + shift);
-      Eigen::AlignedBox2d box;
-      for (int corner = 0; corner < 4; ++corner) {
-        const Eigen::Vector2d p(corner & 1 ? max.x() : min.x(), corner & 2 ? max.y() : min.y());
-        box.extend(to_future * (p + shift));
-      }
-      return box;
-    };
     // The corridor grown by the uncertainty against the moved parts: the axis-aligned box first,
-    // then (only then) its parts.
+    // then (only then) its parts. A part moved and seen from the future vehicle frame: a
+    // rectangle turned by the vehicle's heading change (only shifted while it goes straight).
     const Eigen::Vector2d lo(-grow_x, -half_width - grow_y);
     const Eigen::Vector2d hi(length + grow_x, half_width + grow_y);
     const auto overlaps = [&](const Eigen::Vector2d& min, const Eigen::Vector2d& max) {
-      const Eigen::AlignedBox2d b = moved(min, max);
-      return (b.max().array() >= lo.array()).all() && (b.min().array() <= hi.array()).all();
+      if (!turning) {
+        return ((max + shift).array() >= lo.array()).all() &&
+               ((min + shift).array() <= hi.array()).all();
+      }
+      Eigen::Vector2d corners[4] = {min, Eigen::Vector2d(max.x(), min.y()), max,
+                                    Eigen::Vector2d(min.x(), max.y())};
+      for (Eigen::Vector2d& c : corners) c = to_future * (c + shift);
+      return rectangleOverlapsBox(corners, lo, hi);
     };
     if (!overlaps(object.aabb_min.head<2>(), object.aabb_max.head<2>())) continue;
     if (object.footprint.empty()) return t;

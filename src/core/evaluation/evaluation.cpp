@@ -55,7 +55,35 @@ Eigen::Vector2d axisAlignedReach(const TruthObject& o) {
   return Eigen::Vector2d(c * half.x() + s * half.y(), s * half.x() + c * half.y());
 }
 
-// What a perfect tracker would hand the danger model for a true object, with the frame's ego twist.
+// The true oriented footprint as axis-aligned parts (the form of icanc/Obstacle's footprint): a
+// grid of cells at most kPerfectCellM on a side along the box's own axes, each part the bounds of
+// one cell, so a yawed car is not judged by the bounds of the whole box.
+constexpr double kPerfectCellM = 0.15;
+std::vector<Eigen::AlignedBox2d> orientedFootprint(const TruthObject& o) {
+  const Eigen::Vector2d size = o.size.cwiseAbs();
+  const int nx = std::max(1, static_cast<int>(std::ceil(size.x() / kPerfectCellM)));
+  const int ny = std::max(1, static_cast<int>(std::ceil(size.y() / kPerfectCellM)));
+  const Eigen::Rotation2Dd rotation(o.yaw);
+  const Eigen::Vector2d cell(size.x() / nx, size.y() / ny);
+  std::vector<Eigen::AlignedBox2d> parts;
+  parts.reserve(static_cast<std::size_t>(nx) * ny);
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      const Eigen::Vector2d lo = -0.5 * size + Eigen::Vector2d(i * cell.x(), j * cell.y());
+      Eigen::AlignedBox2d part;
+      for (int corner = 0; corner < 4; ++corner) {
+        const Eigen::Vector2d p = lo + Eigen::Vector2d(corner & 1 ? cell.x() : 0.0,
+                                                       corner & 2 ? cell.y() : 0.0);
+        part.extend(o.center + rotation * p);
+      }
+      parts.push_back(part);
+    }
+  }
+  return parts;
+}
+
+// What a perfect tracker would hand the danger model for a true object, with the frame's ego twist:
+// the true box (its bounds, and its oriented footprint as parts), the labelled relative velocity.
 ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame) {
   ObjectKinematics k;
   k.ego_velocity = frame.ego_velocity;
@@ -64,6 +92,7 @@ ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame) {
   k.center << o.center, 0.0;
   k.aabb_min << o.center - reach, 0.0;
   k.aabb_max << o.center + reach, 0.0;
+  k.footprint = orientedFootprint(o);
   if (o.has_velocity) k.velocity << o.velocity, 0.0;
   return k;
 }
@@ -131,7 +160,11 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   lamp.watchdog_enabled = false;  // frames are given, not awaited
   LightController truth_lamp(lamp);
   std::size_t truth_on_frames = 0;
-  DangerHysteresis perfect_hysteresis(params.danger);
+  // On perfect tracks the true box is the whole object: footprint_margin_m, which makes up for
+  // what the LiDAR does not see of it, is not added.
+  DangerParams perfect_danger = params.danger;
+  perfect_danger.footprint_margin_m = 0.0;
+  DangerHysteresis perfect_hysteresis(perfect_danger);
   const bool hysteresis = params.danger.model == DangerModel::kPredictive;
 
   struct Episode {
@@ -171,7 +204,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
     std::set<std::uint32_t> flagged_ids;  // true objects flagged (match or fragment) this frame
     for (const TruthObject& o : truth) {
-      const DangerAssessment a = assessDanger(perfectTrack(o, f), params.danger);
+      const DangerAssessment a = assessDanger(perfectTrack(o, f), perfect_danger);
       const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
       count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
     }

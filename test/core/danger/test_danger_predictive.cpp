@@ -254,5 +254,65 @@ TEST(DangerPredictiveEgoPath, GoingStraightTheTwistChangesNothing) {
   EXPECT_TRUE(relative.dangerous);
 }
 
+TEST(DangerPredictiveEgoPath, ATurnedPartIsTestedAsARectangleNotByItsBounds) {
+  // The vehicle turns on the spot (no speed) at 0.5 rad/s; a thin static bar along y = 2.47 m,
+  // every point of it at least 2.47 m from the vehicle's origin, never reaches the corridor (all of
+  // it within 1.80 m of the origin: corner (1.5, 1.0)). At a heading change of 45 degrees the bar
+  // runs diagonally past the corridor's corner, and its axis-aligned bounds, [1.0, 3.0] x
+  // [0.5, 2.5], overlap the corridor: the bounds alone would flag it.
+  DangerParams p = zebra(DangerModel::kPredictive);  // corridor |y| <= 1.0, 0 <= x <= 1.5, 3 s
+  const double w = 0.5;
+  ObjectKinematics bar;
+  bar.center << 0.355, 2.475, 0.0;
+  bar.aabb_min << -1.06, 2.45, -0.5;
+  bar.aabb_max << 1.77, 2.50, 0.5;
+  bar.velocity << w * bar.center.y(), -w * bar.center.x(), 0.0;  // static: minus w x r
+  bar.ego_yaw_rate = w;
+  EXPECT_FALSE(assessDanger(bar, p).dangerous) << assessDanger(bar, p).time_to_corridor_s;
+  // The same bar 0.8 m nearer (y = 1.7 m) sweeps over the corridor's corner: flagged.
+  bar.center.y() -= 0.8;
+  bar.aabb_min.y() -= 0.8;
+  bar.aabb_max.y() -= 0.8;
+  bar.velocity << w * bar.center.y(), -w * bar.center.x(), 0.0;
+  const DangerAssessment nearer = assessDanger(bar, p);
+  EXPECT_TRUE(nearer.dangerous);
+  EXPECT_GT(nearer.time_to_corridor_s, 0.5);  // after a turn, not at once
+}
+
+TEST(DangerPredictiveEgoPath, TheHeadingChangeCapEndsThePredictedTurn) {
+  // 10 m/s at 0.3 rad/s (R 33 m): a pole standing on that arc 22 m ahead is in the corridor after
+  // 1.5 s if the turn goes on; with the turn ended after 0.2 rad the path runs straight on and
+  // passes it 3.5 m to its right.
+  const double speed = 10.0, w = 0.3;
+  const ObjectKinematics pole = staticOnBend(onBend(speed / w, 22.0, 0.0), 0.2, 0.2, speed, w);
+  DangerParams p = roadCar();
+  const DangerAssessment turning = assessDanger(pole, p);
+  EXPECT_TRUE(turning.dangerous);
+  p.max_heading_change_rad = 0.2;
+  EXPECT_FALSE(assessDanger(pole, p).dangerous) << assessDanger(pole, p).time_to_corridor_s;
+  // A cap beyond the heading change over the reaction time (0.6 rad) changes nothing.
+  p.max_heading_change_rad = 0.7;
+  EXPECT_NEAR(assessDanger(pole, p).time_to_corridor_s, turning.time_to_corridor_s, 1e-9);
+  // A pole straight ahead of the capped path is dangerous with the cap (and not without it).
+  const Eigen::Vector2d end_of_turn = onBend(speed / w, speed * 0.2 / w, 0.0);
+  const Eigen::Vector2d ahead = end_of_turn + 18.0 * Eigen::Vector2d(std::cos(0.2), std::sin(0.2));
+  const ObjectKinematics on_line = staticOnBend(ahead, 0.2, 0.2, speed, w);
+  p.max_heading_change_rad = 0.2;
+  EXPECT_TRUE(assessDanger(on_line, p).dangerous);
+  p.max_heading_change_rad = 0.0;
+  EXPECT_FALSE(assessDanger(on_line, p).dangerous);
+}
+
+TEST(DangerPredictiveEgoPath, TheHeadingChangeCapIsValidated) {
+  DangerParams p = roadCar();
+  EXPECT_EQ(p.max_heading_change_rad, 0.0);  // no cap unless a profile asks
+  p.max_heading_change_rad = -0.1;
+  EXPECT_NE(validate(p).find("max_heading_change_rad"), std::string::npos);
+  p.max_heading_change_rad = 4.0;
+  EXPECT_NE(validate(p).find("max_heading_change_rad"), std::string::npos);
+  p.max_heading_change_rad = 0.3;
+  EXPECT_EQ(validate(p), "");
+}
+
 }  // namespace
 }  // namespace icanc

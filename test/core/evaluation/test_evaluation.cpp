@@ -327,6 +327,48 @@ TEST(Evaluate, DangerModelOnPerfectTracks) {
   EXPECT_EQ(predictive.fn, 1u);
 }
 
+// Perfect tracks hand the model the true oriented box (as parts) and no footprint margin (the
+// true box lacks nothing the LiDAR did not see). Zebra's corridor: |y| <= 1.0 m, 0 <= x <= 1.5 m.
+TEST(Evaluate, PerfectTracksAreTheOrientedBoxWithoutTheLidarMargin) {
+  const auto perfect = [](const TruthObject& o, const DangerParams& danger) {
+    std::vector<EvalFrame> frames;
+    for (int i = 0; i < 5; ++i) frames.push_back(frame(0.1 * i, false, {o}, {}));
+    EvalParams p;
+    p.danger = danger;
+    return evaluate(frames, p).perfect_tracks;
+  };
+  DangerParams danger;
+  danger.model = DangerModel::kPredictive;
+  // A 2.0 x 0.4 m bar standing diagonally 0.65 m past the corridor's corner (1.5, 1.0): its
+  // axis-aligned bounds, [1.25, 2.95] x [0.75, 2.45], overlap the corridor, the bar does not.
+  TruthObject bar = truth(1, 2.1, 1.6, false);
+  bar.size = Eigen::Vector2d(2.0, 0.4);
+  bar.yaw = 0.75 * M_PI;
+  bar.velocity.setZero();
+  Confusion c = perfect(bar, danger);
+  EXPECT_EQ(c.fp, 0u);
+  EXPECT_EQ(c.tn, 5u);
+  // Turned across the corner it is in the corridor: flagged.
+  bar.yaw = 0.25 * M_PI;
+  bar.center = Eigen::Vector2d(1.9, 1.2);
+  EXPECT_EQ(perfect(bar, danger).fp, 5u);
+  // A 0.5 m box standing 0.05 m beside the corridor: the model flags it with a 0.2 m footprint
+  // margin (what a LiDAR box lacks), perfect tracks do not add it.
+  TruthObject beside = truth(2, 3.0, 1.3, false);
+  beside.size = Eigen::Vector2d(0.5, 0.5);
+  beside.velocity = Eigen::Vector2d(-0.5, 0.0);
+  danger.footprint_margin_m = 0.2;
+  ObjectKinematics k;
+  k.center << beside.center, 0.0;
+  k.aabb_min << beside.center - Eigen::Vector2d(0.25, 0.25), 0.0;
+  k.aabb_max << beside.center + Eigen::Vector2d(0.25, 0.25), 0.0;
+  k.velocity << beside.velocity, 0.0;
+  ASSERT_TRUE(assessDanger(k, danger).dangerous);
+  c = perfect(beside, danger);
+  EXPECT_EQ(c.fp, 0u);
+  EXPECT_EQ(c.tn, 5u);
+}
+
 // The duty cycle of a perfect danger detector: the paper's light controller given the ground
 // truth's danger each frame. 50 frames at 10 Hz, danger at t = 1.0 only: on for tau; a second
 // danger at t = 2.5, with 0.5 s left (<= recheck_below_s), restarts the timer.

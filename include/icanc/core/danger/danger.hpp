@@ -54,6 +54,12 @@ struct DangerParams {
   // noise, does not fly across the corridor on it; a settled track (sigma 0.04 m/s) keeps its
   // velocity. Meaningful with ego motion (velocities over ground); 0 = off.
   double static_prior_k = 0.0;
+  // The vehicle's predicted path turns at the current yaw rate until its heading has changed by
+  // this much, then goes straight on [rad]: a turn ends (a bend, a lane change, the LiDAR
+  // odometry's yaw rate at a bend's entry), and a constant turn rate carried over the whole
+  // reaction time sweeps the corridor across whatever stands on the far side of the bend.
+  // 0 = no cap (constant turn rate over the whole reaction time).
+  double max_heading_change_rad = 0.0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
   // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
@@ -132,9 +138,11 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
 
 // kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at its
 // velocity over ground, seen from where the vehicle will be along its own twist (the corridor
-// turns with the vehicle), grown on every side by footprint_margin_m and per axis by
-// min(k * velocity_std(axis) * t, cap), sampled every time_step_s over [0, reaction_time]: the
-// first time a part of it overlaps the corridor, or -1. With no ego twist this is the footprint
+// turns with the vehicle; the turn capped at max_heading_change_rad), grown on every side by
+// footprint_margin_m and per axis by min(k * velocity_std(axis) * t, cap), sampled every
+// time_step_s over [0, reaction_time]: the first time a part of it overlaps the corridor, or -1.
+// A part seen from a turned vehicle is a rotated rectangle, tested exactly against the corridor
+// (separating axes), not by its axis-aligned bounds. With no ego twist this is the footprint
 // moving at the relative velocity against the corridor ahead.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
 

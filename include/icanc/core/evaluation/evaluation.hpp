@@ -134,10 +134,12 @@ struct EvalReport {
   // at least this long; a lower duty_cycle means missed or late warnings.
   double truth_duty_cycle = 0.0;
   // The danger model (EvalParams::danger, with its hysteresis per true id when predictive) given
-  // perfect perception: each scored true object's own box (its axis-aligned bounds), relative
-  // velocity (zero where the labels give none) and no velocity uncertainty, scored per
-  // object-frame as `danger`. What it misses is the model's, or the truth's (a pedestrian who will
-  // stop, or start, is labelled by where it will be): `danger` below this is perception's.
+  // perfect perception: each scored true object's own box (its axis-aligned bounds, and its
+  // oriented footprint as parts of at most 0.15 m, as icanc/Obstacle's footprint), relative
+  // velocity (zero where the labels give none), no velocity uncertainty and no footprint margin
+  // (the true box lacks nothing the LiDAR did not see), scored per object-frame as `danger`.
+  // What it misses is the model's, or the truth's (a pedestrian who will stop, or start, is
+  // labelled by where it will be): `danger` below this is perception's.
   Confusion perfect_tracks;
 };
 
