@@ -146,6 +146,9 @@ TEST(TrackerEgoMotion, AParkedYawedCarKeepsStillWhileTheVehicleTurnsNearestFaces
     if (i >= 5) worst = std::max(worst, tracker.tracks().front().velocity().head<2>().norm());
   }
   EXPECT_LT(worst, 0.1);
+  // Seen along its 4.5 m side, its faces are measured along its own sides: yaw 0.6 in odom, the
+  // vehicle's heading after 3 s at 0.25 rad/s taken off.
+  EXPECT_NEAR(tracker.tracks().front().face_axes_yaw, 0.6 - 0.75, 0.02);
 }
 
 // The hull travels with the box: a car driving at 8 m/s across the view of a vehicle turning at
