@@ -112,8 +112,13 @@ Box3D fitBoxFootprint(const std::vector<cv::Point2f>& xy, float zmin, float zmax
   box.max = Eigen::Vector3f(xmax, ymax, zmax);
   box.num_points = num_points;
 
-  // Oriented box: OpenCV's minimum-area rectangle of the footprint.
-  const cv::RotatedRect rect = cv::minAreaRect(xy);
+  // Oriented box: OpenCV's minimum-area rectangle of the footprint, found on its convex hull
+  // (minAreaRect takes the hull first; done once here, the hull is kept).
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(xy, hull, /*clockwise=*/false);
+  box.hull.reserve(hull.size());
+  for (const cv::Point2f& p : hull) box.hull.emplace_back(p.x, p.y);
+  const cv::RotatedRect rect = cv::minAreaRect(hull);
   float length = rect.size.width, width = rect.size.height;
   float yaw = rect.angle * static_cast<float>(M_PI / 180.0);
   if (width > length) {  // length is the longer side; yaw follows it

@@ -2,14 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace icanc {
 namespace {
 
+// A detection at least this long (its oriented box's length) sets the track's face axes to its own
+// sides [m]. Shorter ones (a car's rear alone, a walker, a partial view) have a noisy minimum-area
+// rectangle: measured on KITTI 0000 and the simulated parked cars (docs/evaluation.md), taking
+// every detection's own yaw, or the first one's, gave false alarms on young tracks.
+constexpr float kOwnAxesMinLengthM = 3.0f;
+
 bool finiteCenter(const Box3D& box) { return box.center.allFinite(); }
 
-// Moves the box (centre and axis-aligned bounds) by delta.
+// Moves the box (centre, axis-aligned bounds, footprint and hull) by delta.
 void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
   box.center += delta;
   box.min += delta;
@@ -18,10 +25,12 @@ void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
     cell.min += delta.head<2>();
     cell.max += delta.head<2>();
   }
+  for (Eigen::Vector2f& p : box.hull) p += delta.head<2>();
 }
 
-// Re-expresses the box in another frame (the vehicle moved): the centre moves exactly, the bounds
-// and footprint parts become the axis-aligned bounds of their rotated corners, the yaw turns.
+// Re-expresses the box in another frame (the vehicle moved): the centre and the hull move exactly,
+// the bounds become the hull's (without a hull: the axis-aligned bounds of the rotated corners),
+// the footprint parts the axis-aligned bounds of their rotated corners, the yaw turns.
 void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
   const Eigen::Isometry3f m = motion.cast<float>();
   const auto planarBounds = [&m](Eigen::Vector2f& min, Eigen::Vector2f& max, float z) {
@@ -39,7 +48,17 @@ void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
   const float z_mid = 0.5f * (box.min.z() + box.max.z());
   for (FootprintCell& cell : box.footprint) planarBounds(cell.min, cell.max, z_mid);
   Eigen::Vector2f min = box.min.head<2>(), max = box.max.head<2>();
-  planarBounds(min, max, z_mid);
+  if (box.hull.empty()) {
+    planarBounds(min, max, z_mid);
+  } else {
+    min.setConstant(std::numeric_limits<float>::infinity());
+    max = -min;
+    for (Eigen::Vector2f& p : box.hull) {
+      p = (m * Eigen::Vector3f(p.x(), p.y(), z_mid)).head<2>();
+      min = min.cwiseMin(p);
+      max = max.cwiseMax(p);
+    }
+  }
   const float dz = (m * Eigen::Vector3f(box.center.x(), box.center.y(), z_mid)).z() - z_mid;
   box.min << min, box.min.z() + dz;
   box.max << max, box.max.z() + dz;
@@ -47,31 +66,72 @@ void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
   box.yaw += static_cast<float>(std::atan2(motion.linear()(1, 0), motion.linear()(0, 0)));
 }
 
-// Which part of the box the filter follows along one planar axis.
-enum class Face : std::uint8_t { kMiddle, kMin, kMax };
+// A box's bounds along a track's face axes (rows of `axes`: the axes' directions in the vehicle
+// frame), and the outline points (vehicle frame) where each bound is reached.
+struct AxesBounds {
+  Eigen::Vector2f lo, hi;
+  Eigen::Vector2f lo_at[2], hi_at[2];
+};
 
-float faceValue(const Box3D& box, int axis, Face face) {
-  switch (face) {
-    case Face::kMin: return box.min[axis];
-    case Face::kMax: return box.max[axis];
-    case Face::kMiddle: break;
+AxesBounds boundsAlong(const Box3D& box, const Eigen::Matrix2f& axes) {
+  AxesBounds b;
+  b.lo.setConstant(std::numeric_limits<float>::infinity());
+  b.hi = -b.lo;
+  const auto add = [&](const Eigen::Vector2f& p) {
+    const Eigen::Vector2f q = axes * p;
+    for (int a = 0; a < 2; ++a) {
+      if (q[a] < b.lo[a]) b.lo[a] = q[a], b.lo_at[a] = p;
+      if (q[a] > b.hi[a]) b.hi[a] = q[a], b.hi_at[a] = p;
+    }
+  };
+  if (box.hull.empty()) {  // the axis-aligned box is the outline
+    for (int corner = 0; corner < 4; ++corner)
+      add(Eigen::Vector2f(corner & 1 ? box.max.x() : box.min.x(),
+                          corner & 2 ? box.max.y() : box.min.y()));
+  } else {
+    for (const Eigen::Vector2f& p : box.hull) add(p);
   }
-  return 0.5f * (box.min[axis] + box.max[axis]);
+  return b;
 }
 
-// TrackAnchor::kNearestFace along one axis of a detection: the face toward the sensor where the
-// sensor lies beyond the box, the middle where it lies within the box's span. A face at the
-// region of interest's edge is where the view ends, not the object: the other face instead (the
-// middle when both are cut).
-Face nearestFace(const Box3D& detection, int axis, const TrackerView& view) {
-  const float lo = detection.min[axis], hi = detection.max[axis], s = view.origin[axis];
-  const bool cut_lo = lo <= view.region_min[axis] + view.region_tolerance_m;
-  const bool cut_hi = hi >= view.region_max[axis] - view.region_tolerance_m;
+// True when the outline point p, extreme along direction `dir` (vehicle frame), lies on an edge of
+// the region of interest that faces that way (outward normal within 60 deg of dir): the bound
+// there is where the view ends. Along the vehicle's axes: the edge of the same axis only.
+bool cutAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const TrackerView& view) {
+  constexpr float kFacingCos = 0.5f;
+  for (int k = 0; k < 2; ++k) {
+    if (-dir[k] > kFacingCos && p[k] <= view.region_min[k] + view.region_tolerance_m) return true;
+    if (dir[k] > kFacingCos && p[k] >= view.region_max[k] - view.region_tolerance_m) return true;
+  }
+  return false;
+}
+
+// Which part of the box the filter follows along one axis.
+enum class Face : std::uint8_t { kMiddle, kMin, kMax };
+
+float faceValue(const AxesBounds& b, int axis, Face face) {
+  switch (face) {
+    case Face::kMin: return b.lo[axis];
+    case Face::kMax: return b.hi[axis];
+    case Face::kMiddle: break;
+  }
+  return 0.5f * (b.lo[axis] + b.hi[axis]);
+}
+
+// TrackAnchor::kNearestFace along one face axis of a box: the face toward the sensor (`sensor`:
+// its coordinates along the axes) where the sensor lies beyond the box, the middle where it lies
+// within the box's span. A face at the region of interest's edge is where the view ends, not the
+// object: the other face instead (the middle when both are cut).
+Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
+                 const Eigen::Vector2f& sensor, const TrackerView& view) {
+  const Eigen::Vector2f dir = axes.row(axis).transpose();
+  const bool cut_lo = cutAt(b.lo_at[axis], -dir, view);
+  const bool cut_hi = cutAt(b.hi_at[axis], dir, view);
   if (cut_lo && cut_hi) return Face::kMiddle;
   if (cut_lo) return Face::kMax;
   if (cut_hi) return Face::kMin;
-  if (s < lo) return Face::kMin;
-  if (s > hi) return Face::kMax;
+  if (sensor[axis] < b.lo[axis]) return Face::kMin;
+  if (sensor[axis] > b.hi[axis]) return Face::kMax;
   return Face::kMiddle;
 }
 
@@ -79,27 +139,37 @@ Face nearestFace(const Box3D& detection, int axis, const TrackerView& view) {
 // filter's predicted reference point moved by as much as the anchor faces moved from the predicted
 // box to the detection (z: the middles). The same faces of both boxes are compared, so a change
 // of the visible extent on the other side moves nothing, and a switch to other faces is smooth.
-// An object whose footprint is shorter than params.face_min_extent_m both ways in both boxes is
-// seen whole (a pedestrian, a bin): its middles, two faces' noise averaged.
+// The faces are taken along the track's face axes (fixed to the ground), from the boxes' hulls, so
+// a parked car's do not move while the vehicle turns. An object whose footprint is shorter than
+// params.face_min_extent_m both ways in both boxes is seen whole (a pedestrian, a bin): its
+// middles, two faces' noise averaged.
 Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
                                     const Eigen::Vector3d& predicted_reference,
-                                    const TrackerParams& params, const TrackerView& view) {
-  const Eigen::Vector2f extent = (detection.max - detection.min)
-                                     .head<2>()
-                                     .cwiseMax((predicted.max - predicted.min).head<2>());
+                                    float face_axes_yaw, const TrackerParams& params,
+                                    const TrackerView& view) {
+  const float c = std::cos(face_axes_yaw), s = std::sin(face_axes_yaw);
+  Eigen::Matrix2f axes;
+  axes << c, s, -s, c;
+  const AxesBounds det = boundsAlong(detection, axes), pred = boundsAlong(predicted, axes);
+  const Eigen::Vector2f extent = (det.hi - det.lo).cwiseMax(pred.hi - pred.lo);
   const bool faces = params.anchor == TrackAnchor::kNearestFace &&
                      !(extent.maxCoeff() < params.face_min_extent_m);
-  Eigen::Vector3d z = predicted_reference;
-  for (int axis = 0; axis < 3; ++axis) {
+  const Eigen::Vector2f sensor = axes * view.origin;
+  Eigen::Vector2f moved;
+  for (int axis = 0; axis < 2; ++axis) {
     Face face = Face::kMiddle;
-    if (faces && axis < 2) {
+    if (faces) {
       // Passing alongside, the detection spans the sensor and both its faces are seen; the
       // predicted box's far face was not: keep the face it was followed by.
-      face = nearestFace(detection, axis, view);
-      if (face == Face::kMiddle) face = nearestFace(predicted, axis, view);
+      face = nearestFace(det, axis, axes, sensor, view);
+      if (face == Face::kMiddle) face = nearestFace(pred, axis, axes, sensor, view);
     }
-    z[axis] += double(faceValue(detection, axis, face)) - double(faceValue(predicted, axis, face));
+    moved[axis] = faceValue(det, axis, face) - faceValue(pred, axis, face);
   }
+  Eigen::Vector3d z = predicted_reference;
+  z.head<2>() += (axes.transpose() * moved).cast<double>();
+  z.z() += 0.5 * (double(detection.min.z()) + double(detection.max.z())) -
+           0.5 * (double(predicted.min.z()) + double(predicted.max.z()));
   return z;
 }
 
@@ -195,6 +265,9 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
     for (Track& track : tracks_) {
       track.filter.changeFrame(motion);
       changeBoxFrame(track.box, motion);
+      const float turned = track.face_axes_yaw + static_cast<float>(std::atan2(
+                                                     motion.linear()(1, 0), motion.linear()(0, 0)));
+      track.face_axes_yaw = std::atan2(std::sin(turned), std::cos(turned));
     }
   }
 
@@ -244,8 +317,11 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
     if (j >= 0) {
       const Box3D& detection = detections[j];
       detection_used_[j] = 1;
+      // A detection this long has a well-defined long side (a car seen along it): its faces are
+      // then measured along the object's own sides, which stay put whatever part of them is seen.
+      if (detection.size.x() >= kOwnAxesMinLengthM) track.face_axes_yaw = detection.yaw;
       const Eigen::Vector3d z = anchoredMeasurement(detection, track.box, track.filter.position(),
-                                                    params_, view);
+                                                    track.face_axes_yaw, params_, view);
       track.filter.update(z, measurement_variance, params_.robust_sigma);
       track.box = detection;
       translateBox(track.box, (track.filter.position() - z).cast<float>());

@@ -1,5 +1,8 @@
 // Pins the box fitting's footprint cells (Box3D::footprint): tight bounds of the points in each
-// occupied cell of a grid anchored at the origin, their union's bounds the axis-aligned box.
+// occupied cell of a grid anchored at the origin, their union's bounds the axis-aligned box; and
+// its convex hull (Box3D::hull).
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -90,6 +93,30 @@ TEST(BoxFootprint, SparsePointsGiveTheSameCellsAsTheDenseGrid) {
     EXPECT_EQ(sparse[i + 1].min, dense[i].min) << i;
     EXPECT_EQ(sparse[i + 1].max, dense[i].max) << i;
   }
+}
+
+// Box3D::hull: the convex hull of the footprint, whose bounds along any axes are the points'. The
+// U's hull is its outer rectangle (its inside is not a corner of it); turned by 30 deg, the hull's
+// extreme along x is the points' extreme.
+TEST(BoxHull, HoldsTheExtremePointsAlongAnyAxes) {
+  const Cloud cloud = uShape();
+  const Box3D box = fitBox(cloud);
+  ASSERT_GE(box.hull.size(), 4u);
+  Eigen::Vector2f lo = box.hull[0], hi = box.hull[0];
+  for (const Eigen::Vector2f& p : box.hull) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+    EXPECT_TRUE(p.x() < 2.05f || p.x() > 5.95f || std::abs(std::abs(p.y()) - 2.0f) < 1e-4f)
+        << p.transpose();  // on the outline, never inside the U
+  }
+  EXPECT_TRUE(lo.isApprox(box.min.head<2>(), 1e-5f));
+  EXPECT_TRUE(hi.isApprox(box.max.head<2>(), 1e-5f));
+  const Eigen::Vector2f dir(std::cos(0.5236f), std::sin(0.5236f));
+  float points_max = -std::numeric_limits<float>::infinity(), hull_max = points_max;
+  for (const Point& p : cloud)
+    points_max = std::max(points_max, dir.dot(Eigen::Vector2f(p.x, p.y)));
+  for (const Eigen::Vector2f& p : box.hull) hull_max = std::max(hull_max, dir.dot(p));
+  EXPECT_NEAR(hull_max, points_max, 1e-5f);
 }
 
 }  // namespace

@@ -28,11 +28,16 @@ struct Box3D {
   // only its points, not its whole axis-aligned box. Their union's bounds are min/max (x, y).
   // Empty: the axis-aligned box is the footprint.
   std::vector<FootprintCell> footprint;
+  // The convex hull of the footprint's points (x, y) [m], counter-clockwise: the extreme points
+  // along any direction, so the box's bounds in any axes (the tracker measures a track's faces in
+  // axes fixed to the ground while the vehicle turns). Empty: the axis-aligned box's corners.
+  std::vector<Eigen::Vector2f> hull;
 };
 
 // Fits both boxes to the given points (indices into cloud; all points when indices is null):
 // axis-aligned bounds from min/max, oriented box from OpenCV's minimum-area rectangle of the
-// points' x/y with z from min/max, and the footprint cells when footprint_cell_m > 0. An empty
+// points' x/y with z from min/max, their convex hull, and the footprint cells when
+// footprint_cell_m > 0. An empty
 // point set gives a zero box with num_points = 0.
 Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices = nullptr,
              float footprint_cell_m = 0.0f);

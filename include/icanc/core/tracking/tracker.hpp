@@ -30,6 +30,8 @@ namespace icanc {
 // (0.4 m a frame in night_parked_cars: 4 m/s of false motion at 10 Hz). A face at the edge of the
 // region of interest (TrackerView) is where the view ends, not the object: the other face is used.
 // A footprint smaller than TrackerParams::face_min_extent_m keeps the middle (the object seen whole).
+// The faces are taken along the track's own axes fixed to the ground (Track::face_axes_yaw: the
+// object's sides once seen long enough), from the box's convex hull, not along the vehicle's.
 enum class TrackAnchor : std::uint8_t { kCentre, kNearestFace, kInvalid };
 const char* toString(TrackAnchor anchor);
 TrackAnchor parseTrackAnchor(const std::string& name);  // "centre" | "nearest_face"; else kInvalid
@@ -75,6 +77,12 @@ struct Track {
   // The last associated box moved by the filter's correction, then along the filter's prediction
   // while coasting: the detection as seen, placed where the filter puts its anchor faces.
   Box3D box;
+  // The axes the anchor faces are measured along: their yaw in the vehicle frame [rad]. The
+  // vehicle's axes at birth; the object's own sides (the oriented box's yaw) from a detection at
+  // least 3 m long on; turned with every frame motion in between, so they stay fixed to the
+  // ground: a parked car's faces along them do not move as the vehicle turns (along the vehicle's
+  // axes its box changes shape, about 1 m/s of false motion on a yawed car at 0.2 rad/s).
+  float face_axes_yaw = 0.0f;
   // Its position is a reference point rigidly attached to the object (the first detection's
   // centre, then moved as the anchor faces moved), not the box centre: use box for where the
   // object is, filter for its velocity.
