@@ -25,6 +25,7 @@
 
 #include <time.h>
 
+#include "icanc/core/common/planar_geometry.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
 #include "icanc/core/common/yaml_params.hpp"
@@ -150,8 +151,7 @@ int main(int argc, char** argv) {
     const auto& c = odometry.counters();
     const Eigen::Vector3d end = poses.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
                                               : Eigen::Vector3d(poses.back().translation());
-    const double yaw =
-        poses.empty() ? 0.0 : std::atan2(poses.back().linear()(1, 0), poses.back().linear()(0, 0));
+    const double yaw = poses.empty() ? 0.0 : icanc::yawOf(poses.back().linear());
     std::printf("icanc_kitti_odometry: %s, profile %s\n", dir.c_str(), profile.c_str());
     std::printf(
         "frames %llu: registered %llu, degenerate %llu, extrapolated %llu, resets %llu; "

@@ -5,37 +5,10 @@
 #include <iterator>
 #include <sstream>
 
+#include "icanc/core/common/planar_geometry.hpp"
 #include "icanc/core/motion/ego_motion.hpp"
 
 namespace icanc {
-namespace {
-
-// True when the rectangle with these corners (in order around it, any orientation) overlaps the
-// axis-aligned box [lo, hi]: separating axes, the box's two and the rectangle's two.
-bool rectangleOverlapsBox(const Eigen::Vector2d (&corners)[4], const Eigen::Vector2d& lo,
-                          const Eigen::Vector2d& hi) {
-  Eigen::AlignedBox2d bounds;
-  for (const Eigen::Vector2d& c : corners) bounds.extend(c);
-  if (!((bounds.max().array() >= lo.array()).all() && (bounds.min().array() <= hi.array()).all()))
-    return false;
-  const Eigen::Vector2d box[4] = {lo, Eigen::Vector2d(hi.x(), lo.y()), hi,
-                                  Eigen::Vector2d(lo.x(), hi.y())};
-  for (int edge = 0; edge < 2; ++edge) {
-    const Eigen::Vector2d d = corners[edge + 1] - corners[edge];
-    const Eigen::Vector2d axis(-d.y(), d.x());
-    double r_min = 1e300, r_max = -1e300, b_min = 1e300, b_max = -1e300;
-    for (int i = 0; i < 4; ++i) {
-      r_min = std::min(r_min, axis.dot(corners[i]));
-      r_max = std::max(r_max, axis.dot(corners[i]));
-      b_min = std::min(b_min, axis.dot(box[i]));
-      b_max = std::max(b_max, axis.dot(box[i]));
-    }
-    if (r_max < b_min || b_max < r_min) return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 const char* toString(Section section) {
   switch (section) {
@@ -172,10 +145,8 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
         return ((max + shift).array() >= lo.array()).all() &&
                ((min + shift).array() <= hi.array()).all();
       }
-      Eigen::Vector2d corners[4] = {min, Eigen::Vector2d(max.x(), min.y()), max,
-                                    Eigen::Vector2d(min.x(), max.y())};
-      for (Eigen::Vector2d& c : corners) c = to_future * (c + shift);
-      return rectangleOverlapsBox(corners, lo, hi);
+      return orientedRectOverlapsBox(to_future * (0.5 * (min + max) + shift), 0.5 * (max - min),
+                                     -ego.yaw, 0.5 * (lo + hi), 0.5 * (hi - lo));
     };
     if (!overlaps(object.aabb_min.head<2>(), object.aabb_max.head<2>())) continue;
     if (object.footprint.empty()) return t;

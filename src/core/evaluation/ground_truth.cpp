@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "icanc/core/common/planar_geometry.hpp"
+
 namespace icanc {
 
 std::string validate(const CorridorParams& p) {
@@ -20,25 +22,9 @@ std::string validate(const CorridorParams& p) {
 
 bool inCorridor(const TruthPose& pose, const CorridorParams& corridor) {
   // Corridor: axis-aligned rectangle [0, L] x [-W, W]; footprint: oriented rectangle.
-  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
-  const Eigen::Vector2d ax(c, s), ay(-s, c);
-  const double hl = 0.5 * pose.size.x(), hw = 0.5 * pose.size.y();
-  const Eigen::Vector2d rect_center(0.5 * corridor.length(), 0.0);
-  const Eigen::Vector2d rect_half(0.5 * corridor.length(), corridor.halfWidth());
-  const Eigen::Vector2d d = pose.center - rect_center;
-  // Axes of the corridor (x, y): the footprint's extent along each.
-  const double ext_x = hl * std::abs(ax.x()) + hw * std::abs(ay.x());
-  const double ext_y = hl * std::abs(ax.y()) + hw * std::abs(ay.y());
-  if (std::abs(d.x()) > rect_half.x() + ext_x) return false;
-  if (std::abs(d.y()) > rect_half.y() + ext_y) return false;
-  // Axes of the footprint: the corridor's extent along each.
-  for (int k = 0; k < 2; ++k) {
-    const Eigen::Vector2d& axis = k == 0 ? ax : ay;
-    const double half = k == 0 ? hl : hw;
-    const double ext = rect_half.x() * std::abs(axis.x()) + rect_half.y() * std::abs(axis.y());
-    if (std::abs(d.dot(axis)) > half + ext) return false;
-  }
-  return true;
+  return orientedRectOverlapsBox(pose.center, 0.5 * pose.size, pose.yaw,
+                                 Eigen::Vector2d(0.5 * corridor.length(), 0.0),
+                                 Eigen::Vector2d(0.5 * corridor.length(), corridor.halfWidth()));
 }
 
 double timeToCorridor(const std::vector<TruthPose>& trajectory, double t,

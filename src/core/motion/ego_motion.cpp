@@ -3,10 +3,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "icanc/core/common/planar_geometry.hpp"
+
 namespace icanc {
 namespace {
-
-double yawOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
 
 // The pose after moving for dt at the body velocity and yaw rate, as an isometry in the frame the
 // motion started from.

@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include "icanc/core/common/planar_geometry.hpp"
+
 namespace icanc {
 namespace {
 
@@ -30,8 +32,9 @@ void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
 
 // Re-expresses the box in another frame (the vehicle moved): the centre and the hull move exactly,
 // the bounds become the hull's (without a hull: the axis-aligned bounds of the rotated corners),
-// the footprint parts the axis-aligned bounds of their rotated corners, the yaw turns.
-void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
+// the footprint parts the axis-aligned bounds of their rotated corners, the yaw turns by `turn`
+// (the motion's heading change).
+void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion, float turn) {
   const Eigen::Isometry3f m = motion.cast<float>();
   const auto planarBounds = [&m](Eigen::Vector2f& min, Eigen::Vector2f& max, float z) {
     Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::infinity());
@@ -63,7 +66,7 @@ void changeBoxFrame(Box3D& box, const Eigen::Isometry3d& motion) {
   box.min << min, box.min.z() + dz;
   box.max << max, box.max.z() + dz;
   box.center = m * box.center;
-  box.yaw += static_cast<float>(std::atan2(motion.linear()(1, 0), motion.linear()(0, 0)));
+  box.yaw += turn;
 }
 
 // A box's bounds along a track's face axes (rows of `axes`: the axes' directions in the vehicle
@@ -262,11 +265,11 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
   // The vehicle moved since the last frame: every track re-expressed in this frame's vehicle
   // frame, so the filter's velocity is over ground and a parked car keeps standing still.
   if (result == UpdateResult::kOk && !motion.isApprox(Eigen::Isometry3d::Identity())) {
+    const float turn = static_cast<float>(yawOf(motion.linear()));
     for (Track& track : tracks_) {
       track.filter.changeFrame(motion);
-      changeBoxFrame(track.box, motion);
-      const float turned = track.face_axes_yaw + static_cast<float>(std::atan2(
-                                                     motion.linear()(1, 0), motion.linear()(0, 0)));
+      changeBoxFrame(track.box, motion, turn);
+      const float turned = track.face_axes_yaw + turn;
       track.face_axes_yaw = std::atan2(std::sin(turned), std::cos(turned));
     }
   }
