@@ -92,10 +92,16 @@ TEST_F(EgoMotionFaults, EveryFrameIsAnsweredWhateverThePosesDo) {
   EXPECT_EQ(a->ego_motion_status, "none");  // after lost: relative, until poses return
   EXPECT_EQ(a->ego_twist.linear.x, 0.0);
 
-  // Back: a fresh start, then measured again.
-  a = frame(stamp += dt, true, x += 0.2);
+  // Back: a fresh start, then measured again. A source silent for kMissesBeforeNoWait clouds is
+  // no longer waited for (EgoPoseSource), so the first pose back, sent just before its cloud, may
+  // reach the detector's tf buffer after the cloud on a loaded machine: that cloud goes without it
+  // ("none", relative) and the next one finds its pose.
+  int without_pose = 0;
+  for (a = frame(stamp += dt, true, x += 0.2); a && a->ego_motion_status == "none" && without_pose < 3;
+       a = frame(stamp += dt, true, x += 0.2))
+    ++without_pose;
   ASSERT_TRUE(a);
-  EXPECT_EQ(a->ego_motion_status, "first");
+  EXPECT_EQ(a->ego_motion_status, "first") << "after " << without_pose << " frames without the pose";
   a = frame(stamp += dt, true, x += 0.2);
   ASSERT_TRUE(a);
   EXPECT_EQ(a->ego_motion_status, "measured");
