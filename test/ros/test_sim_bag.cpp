@@ -14,6 +14,7 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
+#include <unistd.h>
 
 namespace {
 
@@ -22,9 +23,9 @@ double yawOf(const geometry_msgs::Quaternion& q) {
 }
 
 TEST(SimBag, OdometryFollowsTheTurningVehicleAtEveryCloudStamp) {
-  const std::string dir = ::testing::TempDir();
-  const std::string scenario = dir + "icanc_sim_bag_turn.yaml";
-  const std::string bag_path = dir + "icanc_sim_bag_turn.bag";
+  const std::string dir = ::testing::TempDir() + "icanc_sim_bag_turn_" + std::to_string(::getpid());
+  const std::string scenario = dir + ".yaml";
+  const std::string bag_path = dir + ".bag";
   // 2 s straight at 8 m/s, then a left circle at 8 m/s and 30 deg/s (R = 15.28 m about (16, R)).
   std::ofstream(scenario) << "name: turn\nduration_s: 4\nrate_hz: 5\nprofile: zebra\n"
                              "sensor: {model: vlp16, mount_xyz: [0, 0, 1]}\n"

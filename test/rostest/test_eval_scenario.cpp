@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <string>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <ros/package.h>
 #include <ros/ros.h>
@@ -28,7 +30,15 @@ struct Check {
 TEST(EvalScenario, MetricsWithinThresholds) {
   ros::NodeHandle pnh("~");
   const std::string pkg = ros::package::getPath("icanc");
-  const std::string bag = std::string(::testing::TempDir()) + "icanc_eval_" + ros::this_node::getName().substr(1) + ".bag";
+  // One bag per process: two suites on one machine (two checkouts, a CI runner's jobs) run the
+  // same test names at once, and a shared path had one replay read the other's half-written bag
+  // ("Bag unindexed"). Removed however the test ends.
+  const std::string bag = std::string(::testing::TempDir()) + "icanc_eval_" +
+                          ros::this_node::getName().substr(1) + "_" + std::to_string(::getpid()) + ".bag";
+  struct RemoveAtExit {
+    const std::string& path;
+    ~RemoveAtExit() { std::remove(path.c_str()); }
+  } remove_bag{bag};
   std::string scenario;
   int kitti_frames = 0;
   pnh.getParam("scenario", scenario);
@@ -55,7 +65,6 @@ TEST(EvalScenario, MetricsWithinThresholds) {
   const std::vector<EvalFrame> frames = replayBag(nh, options);
   const EvalReport r = evaluate(frames, params);
   std::printf("%s", toTable(r, kitti_frames ? "kitti_0000" : scenario).c_str());
-  std::remove(bag.c_str());
 
   EXPECT_EQ(r.processed, r.frames) << "frames without an answer from the graph";
   // The bags carry their poses (or LidarOdometry makes them from the clouds): a frame whose pose

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "icanc/sim/scenario.hpp"
 
@@ -18,7 +19,7 @@ std::string repoPath(const std::string& rel) {
 }
 
 std::string writeTemp(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "icanc_scenario_test.yaml";
+  const std::string path = ::testing::TempDir() + "icanc_scenario_test_" + std::to_string(::getpid()) + ".yaml";
   std::ofstream(path) << text;
   return path;
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "icanc/core/common/yaml_params.hpp"
 
@@ -56,7 +57,7 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
 }
 
 TEST(Profiles, BadValueNamesFileAndKey) {
-  const std::string path = ::testing::TempDir() + "icanc_bad_profile.yaml";
+  const std::string path = ::testing::TempDir() + "icanc_bad_profile_" + std::to_string(::getpid()) + ".yaml";
   {
     std::ofstream out(path);
     out << "danger_detector:\n  half_width_m: -1.0\n";

@@ -12,6 +12,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
@@ -366,7 +367,7 @@ TEST(FastDetector, DetectingStraightFromTheMessageMatchesDecodingFirst) {
 }
 
 TEST(FastDetector, ProfileSelectsTheMethod) {
-  const std::string path = ::testing::TempDir() + "icanc_fast_profile.yaml";
+  const std::string path = ::testing::TempDir() + "icanc_fast_profile_" + std::to_string(::getpid()) + ".yaml";
   {
     std::ofstream out(path);
     out << "obstacle_detector:\n  method: fast\n  fast:\n    cell_m: 0.5\n    sectors: 90\n";
