@@ -240,7 +240,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
                     ground.retry_rejection == GroundRejection::kNone ? "no plane there"
                                                                      : toString(ground.retry_rejection));
     }
-    NODELET_WARN_THROTTLE(1.0, "ground plane at %.2f m in %s rejected (%s; road expected at %.2f "
+    NODELET_WARN_THROTTLE(1.0, "ground plane at %.2f m in %s rejected, %s (road expected at %.2f "
                           "+- %.2f m; %zu points on it, %zu under it): %s",
                           ground.rejected_height_m, frame.c_str(), toString(ground.rejection),
                           params.expected_height_m, params.max_height_error_m,

@@ -34,8 +34,8 @@ std::string validate(const GroundParams& params) {
 const char* toString(GroundRejection reason) {
   switch (reason) {
     case GroundRejection::kNone: return "none";
-    case GroundRejection::kHeight: return "height off the expected road height";
-    case GroundRejection::kPointsBelow: return "more points below it than on it";
+    case GroundRejection::kHeight: return "too far from the road's expected height";
+    case GroundRejection::kPointsBelow: return "more points under it than on it";
   }
   return "invalid";
 }
@@ -92,19 +92,25 @@ bool fitPlane(const Cloud::ConstPtr& input, const pcl::IndicesPtr& indices,
   return plane[2] > 0.0f;
 }
 
-float heightAtOrigin(const Eigen::Vector4f& plane) { return -plane[3] / plane[2]; }
+// Whether `plane`, with `inliers` on it, can be the road: its height at the frame's origin (where
+// the vehicle stands on the road) against the expected road height, and the points under it.
+struct Verdict {
+  GroundRejection rejection = GroundRejection::kNone;
+  float height_m = 0.0f;
+  std::size_t below = 0;  // points under it, further than the inlier distance
+};
 
-// Whether `plane` (with `inliers` points on it) can be the road; `below` gets the number of
-// points under it, further than the inlier distance.
-GroundRejection judge(const Cloud& in, const Eigen::Vector4f& plane, std::size_t inliers,
-                      const GroundParams& params, std::size_t& below) {
-  below = 0;
+Verdict judge(const Cloud& in, const Eigen::Vector4f& plane, const pcl::Indices& inliers,
+              const GroundParams& params) {
+  Verdict v;
+  v.height_m = -plane[3] / plane[2];
   for (const Point& p : in)
-    below += plane.head<3>().dot(p.getVector3fMap()) + plane[3] < -params.distance_threshold_m;
-  if (!(std::abs(heightAtOrigin(plane) - params.expected_height_m) <= params.max_height_error_m))
-    return GroundRejection::kHeight;
-  if (below > inliers) return GroundRejection::kPointsBelow;
-  return GroundRejection::kNone;
+    v.below += plane.head<3>().dot(p.getVector3fMap()) + plane[3] < -params.distance_threshold_m;
+  if (!(std::abs(v.height_m - params.expected_height_m) <= params.max_height_error_m))
+    v.rejection = GroundRejection::kHeight;
+  else if (v.below > inliers.size())
+    v.rejection = GroundRejection::kPointsBelow;
+  return v;
 }
 
 // The lowest point of each kRetryCellM cell among those within max_height_error_m of the
@@ -158,20 +164,21 @@ GroundResult removeGround(const Cloud& in, const GroundParams& params, Cloud& no
     copyThrough(in, nonground);
     return result;
   }
-  std::size_t below = 0;
-  result.rejection = judge(in, plane, inliers.indices.size(), params, below);
+  Verdict verdict = judge(in, plane, inliers.indices, params);
+  result.rejection = verdict.rejection;
   result.status = GroundStatus::kFound;
   if (result.rejection != GroundRejection::kNone) {
-    result.rejected_height_m = heightAtOrigin(plane);
+    result.rejected_height_m = verdict.height_m;
     result.rejected_inliers = inliers.indices.size();
-    result.rejected_points_below = below;
+    result.rejected_points_below = verdict.below;
     // Retry where the road must be; that plane then takes its inliers from every point.
     const pcl::IndicesPtr band = lowestNearRoad(in, params);
     result.status = GroundStatus::kRejected;
     if (band->size() >= 3 && fitPlane(input, band, params, inliers, plane)) {
       pcl::SampleConsensusModelPlane<Point> model(input);
       model.selectWithinDistance(Eigen::VectorXf(plane), params.distance_threshold_m, inliers.indices);
-      result.retry_rejection = judge(in, plane, inliers.indices.size(), params, below);
+      verdict = judge(in, plane, inliers.indices, params);
+      result.retry_rejection = verdict.rejection;
       if (result.retry_rejection == GroundRejection::kNone)
         result.status = GroundStatus::kFoundOnRetry;
     }
@@ -182,7 +189,7 @@ GroundResult removeGround(const Cloud& in, const GroundParams& params, Cloud& no
   }
   result.plane = plane;
   result.inliers = inliers.indices.size();
-  result.height_m = heightAtOrigin(plane);
+  result.height_m = verdict.height_m;
 
   // Keep every point not listed as an inlier.
   std::vector<std::uint8_t> is_ground(in.size(), 0);

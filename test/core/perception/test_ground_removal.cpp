@@ -4,6 +4,7 @@
 #include "icanc/core/perception/ground_removal.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
@@ -358,10 +359,8 @@ TEST(GroundRemoval, PlaneWithMorePointsFarBelowItThanOnItIsRejected) {
 }
 
 // The case, rendered: a 64-beam unit 2.0 m above the road (LidarModel::hdl64e) in a
-// street lined with parked cars 3 m either side, a bus beside the lane, house fronts behind the
-// cars; base_link frame, the classic chain's ROI, ego box and 0.2 m voxel grid. The paper's 30
-// RANSAC iterations pick a plane through the car bodies in every one of ten scans; the checked
-// ground finds the road in every one and keeps every car point above it.
+// street lined with parked cars `side` m either side (and a bus beside the lane), house fronts
+// behind the cars; base_link frame, the classic chain's ROI, ego box and 0.2 m voxel grid.
 sim::SceneObject block(const char* type, float length, float width, float height, float x, float y) {
   sim::SceneObject o;
   o.type = type;
@@ -370,57 +369,83 @@ sim::SceneObject block(const char* type, float length, float width, float height
   return o;
 }
 
-TEST(GroundRemoval, RoofUnitInAParkedStreetFindsTheRoad) {
+Cloud parkedStreet(float side, bool bus, int seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> jitter(-0.5f, 0.5f);
+  sim::Scene scene;
+  for (float x = -8.0f; x < 55.0f; x += 5.5f) {
+    scene.objects.push_back(block("car", 4.5f, 1.8f, 1.5f, x + jitter(rng), side + 0.2f * jitter(rng)));
+    scene.objects.push_back(block("car", 4.5f, 1.8f, 1.5f, x + 2.0f + jitter(rng), -side + 0.2f * jitter(rng)));
+  }
+  if (bus) scene.objects.push_back(block("bus", 12.0f, 2.5f, 3.0f, 8.0f, 2.6f));
+  scene.objects.push_back(block("wall", 80.0f, 0.3f, 8.0f, 20.0f, side + 3.0f));
+  scene.objects.push_back(block("wall", 80.0f, 0.3f, 8.0f, 20.0f, -side - 3.0f));
+  Eigen::Isometry3f sensor = Eigen::Isometry3f::Identity();
+  sensor.translation().z() = 2.0f;
+  Cloud scan, base_link, prepared;
+  sim::renderScan(scene, 0.0, sensor, sim::LidarModel::hdl64e(), sim::NoiseParams(), rng, scan);
+  for (Point p : scan) {
+    if (!std::isfinite(p.x)) continue;
+    p.z += 2.0f;
+    base_link.push_back(p);
+  }
   CloudPrepParams prep;  // carla_model3's
   prep.roi_min = {-10.0f, -20.0f, -0.5f};
   prep.roi_max = {60.0f, 20.0f, 3.0f};
   prep.ego_min = {-2.5f, -1.05f, -0.5f};
   prep.ego_max = {2.5f, 1.05f, 1.6f};
   prep.voxel_leaf_m = 0.2f;
+  prepareCloud(base_link, prep, prepared);
+  return prepared;
+}
+
+// Cars 3, 4 and 5 m either side, with and without the bus, ten scans each. Every plane of the
+// paper's RANSAC further than max_height_error_m from the road (or with more points under it than
+// on it) is rejected, the road found on retry and every point clear of it kept; a plane kept is
+// the paper's. With the cars 3 m away and the bus (the tightest street) the paper's plane is wrong
+// in every scan (measured 10 of 10, 0.84-1.54 m up; rejected in 26 of the 60 scans in all,
+// 0.46-1.54 m up). Left as they were: slabs 0.23-0.39 m up through the road and the cars' lower
+// edges, within both checks (4 of 60).
+TEST(GroundRemoval, RoofUnitInAParkedStreetFindsTheRoad) {
   const GroundParams params;  // road at base_link's origin
-  int plain_wrong = 0;
-  for (int seed = 1; seed <= 10; ++seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<float> jitter(-0.5f, 0.5f);
-    sim::Scene scene;
-    for (float x = -8.0f; x < 55.0f; x += 5.5f) {
-      scene.objects.push_back(block("car", 4.5f, 1.8f, 1.5f, x + jitter(rng), 3.0f + 0.2f * jitter(rng)));
-      scene.objects.push_back(block("car", 4.5f, 1.8f, 1.5f, x + 2.0f + jitter(rng), -3.0f + 0.2f * jitter(rng)));
-    }
-    scene.objects.push_back(block("bus", 12.0f, 2.5f, 3.0f, 8.0f, 2.6f));
-    scene.objects.push_back(block("wall", 80.0f, 0.3f, 8.0f, 20.0f, 6.0f));
-    scene.objects.push_back(block("wall", 80.0f, 0.3f, 8.0f, 20.0f, -6.0f));
-    Eigen::Isometry3f sensor = Eigen::Isometry3f::Identity();
-    sensor.translation().z() = 2.0f;
-    Cloud scan, base_link, in, out;
-    sim::renderScan(scene, 0.0, sensor, sim::LidarModel::hdl64e(), sim::NoiseParams(), rng, scan);
-    for (Point p : scan) {
-      if (!std::isfinite(p.x)) continue;
-      p.z += 2.0f;
-      base_link.push_back(p);
-    }
-    prepareCloud(base_link, prep, in);
-    const float clear = params.distance_threshold_m + 0.05f;
-    std::size_t high = 0;  // car, bus and wall points clear of the road
-    for (const Point& p : in) high += p.z > clear;
-
-    Eigen::Vector4f plain;
-    std::vector<int> plain_inliers;
-    ASSERT_TRUE(ransacGroundPlane(in, params, plain, plain_inliers));
-    plain_wrong += -plain[3] / plain[2] > params.max_height_error_m;
-
-    const GroundResult r = removeGround(in, params, out);
-    ASSERT_TRUE(r.found()) << "seed " << seed;
-    EXPECT_NEAR(r.height_m, 0.0f, 0.05f) << "seed " << seed;
-    std::size_t high_left = 0;
-    for (const Point& p : out) high_left += p.z > clear;
-    EXPECT_EQ(high_left, high) << "seed " << seed;
-    if (-plain[3] / plain[2] > params.max_height_error_m) {
-      EXPECT_EQ(r.status, GroundStatus::kFoundOnRetry);
-      EXPECT_EQ(r.rejection, GroundRejection::kHeight);
+  const float clear = params.distance_threshold_m + 0.05f;
+  int plain_wrong = 0, tightest_wrong = 0, slabs = 0;
+  for (const float side : {3.0f, 4.0f, 5.0f}) {
+    for (const bool bus : {false, true}) {
+      for (int seed = 1; seed <= 10; ++seed) {
+        SCOPED_TRACE(::testing::Message() << "side " << side << " bus " << bus << " seed " << seed);
+        const Cloud in = parkedStreet(side, bus, seed);
+        Eigen::Vector4f plain;
+        std::vector<int> plain_inliers;
+        ASSERT_TRUE(ransacGroundPlane(in, params, plain, plain_inliers));
+        const float plain_height = -plain[3] / plain[2];
+        Cloud out;
+        const GroundResult r = removeGround(in, params, out);
+        if (r.status == GroundStatus::kFound) {  // the paper's plane, kept as it was
+          EXPECT_LE(plain_height, params.max_height_error_m);
+          EXPECT_EQ(r.inliers, plain_inliers.size());
+          slabs += plain_height > 0.1f;
+          continue;
+        }
+        ++plain_wrong;
+        tightest_wrong += side == 3.0f && bus;
+        EXPECT_EQ(r.rejection, plain_height > params.max_height_error_m
+                                   ? GroundRejection::kHeight : GroundRejection::kPointsBelow);
+        EXPECT_NEAR(r.rejected_height_m, plain_height, 1e-4f);
+        ASSERT_EQ(r.status, GroundStatus::kFoundOnRetry);
+        EXPECT_NEAR(r.height_m, 0.0f, 0.05f);
+        std::size_t high = 0, high_left = 0;  // car, bus and wall points clear of the road
+        for (const Point& p : in) high += p.z > clear;
+        for (const Point& p : out) high_left += p.z > clear;
+        EXPECT_EQ(high_left, high);
+      }
     }
   }
-  EXPECT_GE(plain_wrong, 7);  // measured: 10 of 10 (planes 0.8-1.5 m above the road)
+  std::printf("the paper's plane rejected in %d of 60 scans (%d of 10 in the tightest street), "
+              "slabs above the road kept: %d\n", plain_wrong, tightest_wrong, slabs);
+  EXPECT_GE(tightest_wrong, 8);  // measured 10
+  EXPECT_GE(plain_wrong, 20);    // measured 26
+  EXPECT_LE(slabs, 6);           // measured 4
 }
 
 TEST(GroundRemoval, ValidateMessages) {

@@ -22,7 +22,7 @@ struct GroundParams {
   float max_slope_deg = 15.0f;        // plane normal within this angle of +z (rejects walls)
   // Where the road is: its height at the origin of the cloud's frame (the vehicle frame, origin
   // on the road: 0; a cloud in a roof sensor's own frame: minus the mount height) [m], and how
-  // far the plane's height there may be from it [m]. A plane further off is not the road.
+  // far a plane's height there may be from it [m]. A plane further off is not the road.
   float expected_height_m = 0.0f;
   float max_height_error_m = 0.5f;
 };
@@ -54,7 +54,7 @@ struct GroundResult {
   float height_m = std::numeric_limits<float>::quiet_NaN();  // the plane's z at x = y = 0
   // The first plane rejected this frame, if any (kFoundOnRetry, kRejected).
   GroundRejection rejection = GroundRejection::kNone;
-  float rejected_height_m = std::numeric_limits<float>::quiet_NaN();  // its z at x = y = 0
+  float rejected_height_m = std::numeric_limits<float>::quiet_NaN();  // the same for it
   std::size_t rejected_inliers = 0;
   std::size_t rejected_points_below = 0;  // points under it beyond distance_threshold_m
   // kRejected: why the retry's plane was rejected too (kNone: no plane near the expected height).
@@ -69,12 +69,12 @@ bool ransacGroundPlane(const Cloud& in, const GroundParams& params, Eigen::Vecto
 
 // Splits `in` into ground (dropped) and the rest (`nonground`, cleared first; must not alias
 // `in`). RANSAC runs over the whole cloud first (the paper's detector); a plane whose height at
-// the origin is off `expected_height_m` by more than `max_height_error_m`, or with more points
-// under it (further than `distance_threshold_m`) than on it, is rejected, and RANSAC runs again
-// on the lowest point of each 1 m cell within `max_height_error_m` of the expected height; the
-// plane it finds there (checked the same way) removes its inliers from the whole cloud. When no plane is accepted, or ground removal is
-// disabled, `nonground` is a copy of `in`. Deterministic: PCL's RANSAC runs single-threaded from
-// a fixed seed on every call.
+// the frame's origin is off `expected_height_m` by more than `max_height_error_m`, or with more
+// points under it (further than `distance_threshold_m`) than on it, is rejected, and RANSAC runs
+// again on the lowest point of each 1 m cell within `max_height_error_m` of the expected height;
+// the plane it finds there (checked the same way) removes its inliers from the whole cloud. When
+// no plane is accepted, or ground removal is disabled, `nonground` is a copy of `in`.
+// Deterministic: PCL's RANSAC runs single-threaded from a fixed seed on every call.
 GroundResult removeGround(const Cloud& in, const GroundParams& params, Cloud& nonground);
 
 }  // namespace icanc
