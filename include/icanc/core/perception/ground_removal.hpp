@@ -54,7 +54,7 @@ struct GroundResult {
   float height_m = std::numeric_limits<float>::quiet_NaN();  // the plane's z at x = y = 0
   // The first plane rejected this frame, if any (kFoundOnRetry, kRejected).
   GroundRejection rejection = GroundRejection::kNone;
-  float rejected_height_m = std::numeric_limits<float>::quiet_NaN();  // the same for it
+  float rejected_height_m = std::numeric_limits<float>::quiet_NaN();  // its z at x = y = 0
   std::size_t rejected_inliers = 0;
   std::size_t rejected_points_below = 0;  // points under it beyond distance_threshold_m
   // kRejected: why the retry's plane was rejected too (kNone: no plane near the expected height).
