@@ -332,7 +332,7 @@ TEST(GroundRemoval, NoRoadKeepsEveryPointAndSaysSo) {
 // no transform to base_link) to a profile that expects the road at 0. The roofs, 0.4 m below
 // the origin, are within max_height_error_m of it, but the road and most of each car lie under
 // them beyond the inlier distance: not the ground. Every point is kept.
-TEST(GroundRemoval, PlaneWithMorePointsFarBelowItThanOnItIsRejected) {
+TEST(GroundRemoval, PlaneWithMorePointsUnderItThanOnItIsRejected) {
   Cloud in = carPark(0.5f);
   for (Point& p : in) p.z -= 1.9f;
   Cloud out;
