@@ -1,5 +1,7 @@
 // icanc/ObstacleDetector: PointCloud2 in, icanc/ObstacleArray out. Glue only: decoding checks,
 // tf2, parameters and diagnostics here; every algorithm is in icanc::ObstacleDetector.
+#include <cstdio>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -179,6 +181,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     } else {
       decodeXYZ(raw, to_target, static_cast<std::size_t>(max_points_), cloud_, &stats);
       result = detector_->process(stamp_s, cloud_, &times);
+      checkGround(frame);
     }
     dropped_points_ += stats.dropped_nonfinite + stats.dropped_zero;
     if (result == MultiObjectTracker::UpdateResult::kResetTimeBackwards) {
@@ -210,6 +213,38 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     input_->processed(out->processing_ms);
     ++published_;
     pub_.publish(ObstacleArray::ConstPtr(out));
+  }
+
+  // A wrong ground plane is never silent: a plane rejected as the road (its height, or points
+  // below it), and a frame without any plausible road (every point kept: nothing is deleted as
+  // ground), are counted and warned about once per second at most.
+  void checkGround(const std::string& frame) {
+    const GroundResult& ground = detector_->ground();
+    const GroundParams& params = detector_->params().ground;
+    if (ground.status == GroundStatus::kNoPlane) {
+      ++ground_absent_;
+      NODELET_WARN_THROTTLE(1.0, "no ground plane within %.1f deg of horizontal in %s: every point "
+                            "kept as obstacle", params.max_slope_deg, frame.c_str());
+      return;
+    }
+    if (ground.rejection == GroundRejection::kNone) return;
+    last_rejected_height_m_ = ground.rejected_height_m;
+    char what[160];
+    if (ground.status == GroundStatus::kFoundOnRetry) {
+      ++ground_retried_;
+      std::snprintf(what, sizeof(what), "road found on retry at %.2f m", ground.height_m);
+    } else {
+      ++ground_rejected_;
+      std::snprintf(what, sizeof(what), "no plausible road near %.2f m either (%s), every point "
+                    "kept as obstacle", params.expected_height_m,
+                    ground.retry_rejection == GroundRejection::kNone ? "no plane there"
+                                                                     : toString(ground.retry_rejection));
+    }
+    NODELET_WARN_THROTTLE(1.0, "ground plane at %.2f m in %s rejected, %s (road expected at %.2f "
+                          "+- %.2f m; %zu points on it, %zu under it): %s",
+                          ground.rejected_height_m, frame.c_str(), toString(ground.rejection),
+                          params.expected_height_m, params.max_height_error_m,
+                          ground.rejected_inliers, ground.rejected_points_below, what);
   }
 
   // The vehicle's motion since the previous cloud, from the configured source at this stamp. A
@@ -269,17 +304,21 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     const std::uint64_t ego_faults = ego_counts_[EgoStep::Status::kExtrapolated] +
                                      ego_counts_[EgoStep::Status::kJump] +
                                      ego_counts_[EgoStep::Status::kLost];
+    const std::uint64_t ground_faults = ground_retried_ + ground_rejected_ + ground_absent_;
     if (invalid > reported_invalid_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid clouds dropped");
     else if (tf_failures_ > reported_tf_failures_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "transform to target frame missing");
     else if (ego_faults > reported_ego_faults_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "ego motion extrapolated, jumped or lost");
+    else if (ground_faults > reported_ground_faults_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "ground plane rejected or absent");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
     reported_invalid_ = invalid;
     reported_tf_failures_ = tf_failures_;
     reported_ego_faults_ = ego_faults;
+    reported_ground_faults_ = ground_faults;
     stat.add("ego motion source", toString(ego_.params().source));
     for (const auto& kv : ego_counts_)
       stat.add(std::string("ego motion frames: ") + toString(kv.first), kv.second);
@@ -292,6 +331,10 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("tracker resets: time backwards", time_resets_);
     stat.add("tracker resets: gap", gap_resets_);
     stat.add("output frame changes", frame_changes_);
+    stat.add("ground planes rejected, road found on retry", ground_retried_);
+    stat.add("ground planes rejected, every point kept", ground_rejected_);
+    stat.add("frames without a ground plane, every point kept", ground_absent_);
+    stat.add("last rejected ground plane height m", last_rejected_height_m_);
     stat.add("obstacles (last frame)", last_obstacles_);
     stat.add("processing ms (last frame)", last_processing_ms_);
     stat.add("prep ms", last_times_.prep_ms);
@@ -332,6 +375,9 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::map<DecodeError, std::uint64_t> invalid_;
   std::uint64_t received_ = 0, published_ = 0, dropped_points_ = 0, tf_failures_ = 0;
   std::uint64_t time_resets_ = 0, gap_resets_ = 0, frame_changes_ = 0;
+  std::uint64_t ground_retried_ = 0, ground_rejected_ = 0, ground_absent_ = 0;
+  std::uint64_t reported_ground_faults_ = 0;
+  float last_rejected_height_m_ = std::numeric_limits<float>::quiet_NaN();
   CloudInputChecks checks_;
   std::uint64_t reported_invalid_ = 0, reported_tf_failures_ = 0;
   std::size_t last_obstacles_ = 0;

@@ -308,7 +308,9 @@ int main(int argc, char** argv) {
     ObstacleDetectorParams classic = loaded.detector;
     classic.method = icanc::DetectorMethod::kClassic;
     classic.prep.voxel_leaf_m = 0.2f;  // the paper's reference parameters, whatever the profile
-    classic.ground = icanc::GroundParams();
+    classic.ground = icanc::GroundParams();  // where the road is comes from the profile
+    classic.ground.expected_height_m = loaded.detector.ground.expected_height_m;
+    classic.ground.max_height_error_m = loaded.detector.ground.max_height_error_m;
     classic.ground.max_iterations = 30;
     classic.ground.distance_threshold_m = 0.3f;
     classic.cluster = icanc::ClusterParams();

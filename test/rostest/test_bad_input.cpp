@@ -1,7 +1,8 @@
 // rostest: malformed clouds reach the ObstacleDetector. Each gets a throttled error naming the
 // problem (on /rosout) and a counter in /diagnostics; the process keeps running and the next good
 // frame is processed. A stamp going backwards is rejected with a warning (issue 21); the frame
-// after it starts the new timeline and resets the tracker.
+// after it starts the new timeline and resets the tracker. A ground plane where the road cannot
+// be is warned about and counted (issue 22).
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <functional>
 
@@ -319,6 +320,44 @@ TEST_F(BadInput, MalformedMatrix) {
     }, 5.0)) << "transform failures " << counter("transform failures") << ", frame changes "
              << counter("output frame changes");
   }
+  ASSERT_TRUE(goodFrame(stamp += dt));
+}
+
+// Issue 22: a cloud whose only horizontal plane lies far from where the road must be (a ceiling
+// 1.5 m above the sensor, 2.1 m above base_link's road) is not taken for the ground: every point
+// kept, a warning naming the plane's height and what was done, a diagnostics counter.
+TEST_F(BadInput, GroundPlaneWhereNoRoadCanBeIsWarnedAndCounted) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  const ros::Duration dt(0.1);
+  ASSERT_TRUE(firstFrame(stamp, dt));
+  const std::string key = "ground planes rejected, every point kept";
+  EXPECT_TRUE(waitFor([&] { return counter(key) >= 0; }, 5.0)) << "no counter '" << key << "'";
+  const long rejected = counter(key);
+
+  auto ceiling = boost::make_shared<sensor_msgs::PointCloud2>();
+  ceiling->header.frame_id = "lidar";
+  sensor_msgs::PointCloud2Modifier mod(*ceiling);
+  mod.setPointCloud2FieldsByString(1, "xyz");
+  mod.resize(60 * 40);
+  sensor_msgs::PointCloud2Iterator<float> x(*ceiling, "x"), y(*ceiling, "y"), z(*ceiling, "z");
+  for (std::size_t i = 0; i < 60 * 40; ++i, ++x, ++y, ++z) {
+    *x = 2.0f + 0.1f * (i % 60);
+    *y = -2.0f + 0.1f * (i / 60);
+    *z = 1.5f;
+  }
+  ceiling->header.stamp = stamp += dt;
+  ros::WallDuration(1.1).sleep();  // past the 1 s throttle of an earlier ground warning
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    logs_.clear();
+  }
+  const std::size_t before = g_.recorder().count(g_.recorder().detections);
+  g_.publishRaw(ceiling);
+  ASSERT_TRUE(waitFor([&] { return g_.recorder().count(g_.recorder().detections) > before; }, 5.0));
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "ground plane at 2.10 m in base_link rejected"));
+  EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "every point kept as obstacle"));
+  EXPECT_TRUE(waitFor([&] { return counter(key) >= rejected + 1; }, 5.0)) << key << " " << counter(key);
   ASSERT_TRUE(goodFrame(stamp += dt));
 }
 

@@ -49,7 +49,13 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_DOUBLE_EQ(kitti.danger.footprint_margin_m, 0.2);
   EXPECT_DOUBLE_EQ(zebra.danger.footprint_margin_m, 0.0);
   EXPECT_DOUBLE_EQ(carla.danger.footprint_margin_m, 0.05);
+  // Where each profile's target frame has the road (issue 22): base_link on it, KITTI's
+  // velodyne frame 1.73 m above it.
+  EXPECT_FLOAT_EQ(zebra.detector.ground.expected_height_m, 0.0f);
+  EXPECT_FLOAT_EQ(carla.detector.ground.expected_height_m, 0.0f);
+  EXPECT_FLOAT_EQ(kitti.detector.ground.expected_height_m, -1.73f);
   for (const Profile* p : {&zebra, &carla, &kitti}) {
+    EXPECT_FLOAT_EQ(p->detector.ground.max_height_error_m, 0.5f);
     EXPECT_FLOAT_EQ(p->detector.footprint_cell_m, 1.0f);
     EXPECT_DOUBLE_EQ(p->detector.tracker.accel_std, 3.0);
     EXPECT_DOUBLE_EQ(p->detector.tracker.steady_accel_std, 0.05);

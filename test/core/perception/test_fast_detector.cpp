@@ -103,6 +103,7 @@ TEST(FastDetector, GroundFollowsASlopeThatOnePlaneCannotFit) {
   // obstacles: this is the case the polar ground is for.
   ObstacleDetectorParams classic;
   classic.prep = wideRoi();
+  classic.ground.expected_height_m = kFlat;  // the sensor's frame
   classic.cluster.max_points = 1000000;
   ObstacleDetector reference(classic);
   reference.process(0.0, cloud);

@@ -29,6 +29,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("ground/max_iterations", p.ground.max_iterations);
   r("ground/distance_threshold_m", p.ground.distance_threshold_m);
   r("ground/max_slope_deg", p.ground.max_slope_deg);
+  r("ground/expected_height_m", p.ground.expected_height_m);
+  r("ground/max_height_error_m", p.ground.max_height_error_m);
   r("cluster/tolerance_m", p.cluster.tolerance_m);
   r("cluster/min_points", p.cluster.min_points);
   r("cluster/max_points", p.cluster.max_points);
