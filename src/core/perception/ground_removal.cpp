@@ -117,13 +117,16 @@ Verdict judge(const Cloud& in, const Eigen::Vector4f& plane, const pcl::Indices&
 // expected road height: the road where it is seen, else an object's underside (RANSAC over all
 // of them would take a slab through the road and the lower part of every car alike).
 pcl::IndicesPtr lowestNearRoad(const Cloud& in, const GroundParams& params) {
-  std::unordered_map<std::int64_t, pcl::index_t> lowest;  // cell -> its lowest point
+  std::unordered_map<std::uint64_t, pcl::index_t> lowest;  // cell -> its lowest point
+  constexpr float kMaxCoordM = 1.0e6f;  // cell indices fit 32 bits (and NaN is left out)
   for (std::size_t i = 0; i < in.size(); ++i) {
     const Point& p = in.points[i];
     if (!(std::abs(p.z - params.expected_height_m) <= params.max_height_error_m)) continue;
-    const auto cx = static_cast<std::int64_t>(std::floor(p.x / kRetryCellM));
-    const auto cy = static_cast<std::int64_t>(std::floor(p.y / kRetryCellM));
-    const auto cell = lowest.emplace((cx << 32) ^ (cy & 0xffffffff), static_cast<pcl::index_t>(i));
+    if (!(std::abs(p.x) < kMaxCoordM && std::abs(p.y) < kMaxCoordM)) continue;
+    const auto cx = static_cast<std::int32_t>(std::floor(p.x / kRetryCellM));
+    const auto cy = static_cast<std::int32_t>(std::floor(p.y / kRetryCellM));
+    const std::uint64_t key = (std::uint64_t{static_cast<std::uint32_t>(cx)} << 32) | static_cast<std::uint32_t>(cy);
+    const auto cell = lowest.emplace(key, static_cast<pcl::index_t>(i));
     if (!cell.second && p.z < in.points[cell.first->second].z)
       cell.first->second = static_cast<pcl::index_t>(i);
   }
