@@ -164,7 +164,9 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     fscore.add(icanc::kitti::scoreFrame(by_frame[f], cloud, fast.detections()));
     ++frames;
   }
-  std::printf("## KITTI tracking 0000, %d frames of %.0f points (HDL-64E), times in ms\n\n", frames,
+  // The data named as read (issue 22: the heading said "0000 (HDL-64E)" whatever DIR was given).
+  std::printf("## KITTI tracking, sequence 0000 (calib, labels, velodyne) read from %s: %d frames of "
+              "%.0f points on average, times in ms\n\n", dir.c_str(), frames,
               frames ? cs.points / frames : 0.0);
   printStages(cs, fs);
   std::printf("from the PointCloud2 buffer (nodelet input), fast path with tracking: decode then "
