@@ -28,6 +28,12 @@ int DetectionScore::foundTotal() const {
   return n;
 }
 
+int DetectionScore::outsideRoiTotal() const {
+  int n = 0;
+  for (const auto& kv : outside_roi) n += kv.second;
+  return n;
+}
+
 double DetectionScore::recall() const {
   const int n = labelledTotal();
   return n ? double(foundTotal()) / n : 1.0;
@@ -38,12 +44,13 @@ double DetectionScore::precision() const { return detections ? double(correct) /
 void DetectionScore::add(const DetectionScore& other) {
   for (const auto& kv : other.labelled) labelled[kv.first] += kv.second;
   for (const auto& kv : other.found) found[kv.first] += kv.second;
+  for (const auto& kv : other.outside_roi) outside_roi[kv.first] += kv.second;
   detections += other.detections;
   correct += other.correct;
 }
 
 DetectionScore scoreFrame(const std::vector<VeloBox>& labels, const Cloud& cloud,
-                          const std::vector<Box3D>& detections) {
+                          const std::vector<Box3D>& detections, const RoiXY* roi) {
   DetectionScore score;
   for (const VeloBox& label : labels) {
     if (!counted(label.type) || label.center.head<2>().norm() > kMaxRangeM) continue;
@@ -53,6 +60,9 @@ DetectionScore scoreFrame(const std::vector<VeloBox>& labels, const Cloud& cloud
     }
     if (inside < kMinPoints) continue;
     ++score.labelled[label.type];
+    if (roi && !(label.center.x() >= roi->min_x && label.center.x() <= roi->max_x &&
+                 label.center.y() >= roi->min_y && label.center.y() <= roi->max_y))
+      ++score.outside_roi[label.type];
     for (const Box3D& d : detections) {
       if (contains(label, d.center.cast<double>(), kMarginM)) {
         ++score.found[label.type];

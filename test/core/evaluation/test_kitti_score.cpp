@@ -1,5 +1,5 @@
-// kitti::scoreFrame: which labels count (type, range, points inside), when a label is found, and
-// which detections count toward precision.
+// kitti::scoreFrame: which labels count (type, range, points inside), when a label is found,
+// which detections count toward precision, and which counted labels lie outside the detector's ROI.
 #include "icanc/core/evaluation/kitti_score.hpp"
 
 #include <gtest/gtest.h>
@@ -63,6 +63,17 @@ TEST(KittiScore, RecallAndPrecisionFollowTheRule) {
   EXPECT_EQ(total.labelledTotal(), 4);
   EXPECT_EQ(total.correct, 4);
   EXPECT_DOUBLE_EQ(total.recall(), 0.5);
+
+  // With the detector's ROI: the counted pedestrian (x 8, y -3) lies outside x 9..60, the car inside.
+  const RoiXY roi{9.0, -20.0, 60.0, 20.0};
+  const DetectionScore cropped = scoreFrame(labels, cloud, detections, &roi);
+  EXPECT_EQ(cropped.outsideRoiTotal(), 1);
+  EXPECT_EQ(cropped.outside_roi.at("Pedestrian"), 1);
+  EXPECT_EQ(cropped.outside_roi.count("Car"), 0u);
+  EXPECT_EQ(cropped.labelledTotal(), s.labelledTotal());  // the rule for what counts is unchanged
+  EXPECT_EQ(s.outsideRoiTotal(), 0);                       // no ROI given: none counted
+  total.add(cropped);
+  EXPECT_EQ(total.outsideRoiTotal(), 1);
 
   const DetectionScore none = scoreFrame({}, Cloud(), {});
   EXPECT_DOUBLE_EQ(none.recall(), 1.0);

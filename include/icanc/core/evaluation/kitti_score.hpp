@@ -19,20 +19,29 @@ namespace kitti {
 struct DetectionScore {
   std::map<std::string, int> labelled;  // per type: labels that count
   std::map<std::string, int> found;     // per type: of those, found
+  std::map<std::string, int> outside_roi;  // per type: of the labelled, centre outside the ROI
   int detections = 0;                   // detections in the labelled field of view
   int correct = 0;                      // of those, inside a label box
 
   int labelledTotal() const;
   int foundTotal() const;
+  int outsideRoiTotal() const;
   double recall() const;     // found / labelled (1 when nothing is labelled)
   double precision() const;  // correct / detections (1 when there is no detection)
   void add(const DetectionScore& other);
 };
 
+// The detector's region of interest seen from above (x, y bounds in the velodyne frame).
+struct RoiXY {
+  double min_x, min_y, max_x, max_y;
+};
+
 // Scores one frame: `labels` of that frame (velodyne frame), the frame's raw `cloud` (to count
-// points inside each label) and the detector's boxes (velodyne frame).
+// points inside each label) and the detector's boxes (velodyne frame). With `roi`, a counted
+// label whose centre lies outside it is also counted in outside_roi: the detector crops it away,
+// so it is missed whatever the method does.
 DetectionScore scoreFrame(const std::vector<VeloBox>& labels, const Cloud& cloud,
-                          const std::vector<Box3D>& detections);
+                          const std::vector<Box3D>& detections, const RoiXY* roi = nullptr);
 
 }  // namespace kitti
 }  // namespace icanc
