@@ -75,8 +75,8 @@ int main(int argc, char** argv) {
     const auto boxes = icanc::kitti::toVelodyne(icanc::kitti::readLabels(dir + "/label_02/0000.txt"), calib);
     std::map<int, std::vector<icanc::kitti::VeloBox>> by_frame;
     for (const auto& b : boxes) by_frame[b.frame].push_back(b);
-    const icanc::kitti::RoiXY roi{params.prep.roi_min.x(), params.prep.roi_min.y(),
-                                  params.prep.roi_max.x(), params.prep.roi_max.y()};
+    const Eigen::AlignedBox2d roi(params.prep.roi_min.head<2>().cast<double>(),
+                                  params.prep.roi_max.head<2>().cast<double>());
     std::FILE* csv = nullptr;
     if (!boxes_path.empty()) {
       csv = std::fopen(boxes_path.c_str(), "w");
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
                   outside == score.outside_roi.end() ? 0 : outside->second);
     }
     std::printf("labelled objects outside the ROI (x %.1f..%.1f, y %.1f..%.1f m): %d of %d\n",
-                roi.min_x, roi.max_x, roi.min_y, roi.max_y, score.outsideRoiTotal(),
+                roi.min().x(), roi.max().x(), roi.min().y(), roi.max().y(), score.outsideRoiTotal(),
                 score.labelledTotal());
     std::printf("precision (detections ahead within 45 deg and 40 m inside a label box grown by "
                 "0.5 m): %d of %d (%.1f %%)\n", score.correct, score.detections,

@@ -50,7 +50,7 @@ void DetectionScore::add(const DetectionScore& other) {
 }
 
 DetectionScore scoreFrame(const std::vector<VeloBox>& labels, const Cloud& cloud,
-                          const std::vector<Box3D>& detections, const RoiXY* roi) {
+                          const std::vector<Box3D>& detections, const Eigen::AlignedBox2d* roi) {
   DetectionScore score;
   for (const VeloBox& label : labels) {
     if (!counted(label.type) || label.center.head<2>().norm() > kMaxRangeM) continue;
@@ -60,9 +60,7 @@ DetectionScore scoreFrame(const std::vector<VeloBox>& labels, const Cloud& cloud
     }
     if (inside < kMinPoints) continue;
     ++score.labelled[label.type];
-    if (roi && !(label.center.x() >= roi->min_x && label.center.x() <= roi->max_x &&
-                 label.center.y() >= roi->min_y && label.center.y() <= roi->max_y))
-      ++score.outside_roi[label.type];
+    if (roi && !roi->contains(label.center.head<2>())) ++score.outside_roi[label.type];
     for (const Box3D& d : detections) {
       if (contains(label, d.center.cast<double>(), kMarginM)) {
         ++score.found[label.type];

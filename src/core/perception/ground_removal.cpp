@@ -162,7 +162,7 @@ GroundResult removeGround(const Cloud& in, const GroundParams& params, Cloud& no
 
   pcl::PointIndices inliers;
   Eigen::Vector4f plane;
-  if (!fitPlane(input, nullptr, params, inliers, plane)) {
+  if (!ransacGroundPlane(in, params, plane, inliers.indices)) {
     result.status = GroundStatus::kNoPlane;  // e.g. only walls
     copyThrough(in, nonground);
     return result;

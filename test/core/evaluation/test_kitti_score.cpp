@@ -65,7 +65,7 @@ TEST(KittiScore, RecallAndPrecisionFollowTheRule) {
   EXPECT_DOUBLE_EQ(total.recall(), 0.5);
 
   // With the detector's ROI: the counted pedestrian (x 8, y -3) lies outside x 9..60, the car inside.
-  const RoiXY roi{9.0, -20.0, 60.0, 20.0};
+  const Eigen::AlignedBox2d roi(Eigen::Vector2d(9.0, -20.0), Eigen::Vector2d(60.0, 20.0));
   const DetectionScore cropped = scoreFrame(labels, cloud, detections, &roi);
   EXPECT_EQ(cropped.outsideRoiTotal(), 1);
   EXPECT_EQ(cropped.outside_roi.at("Pedestrian"), 1);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "icanc/core/perception/box.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 
@@ -31,17 +33,13 @@ struct DetectionScore {
   void add(const DetectionScore& other);
 };
 
-// The detector's region of interest seen from above (x, y bounds in the velodyne frame).
-struct RoiXY {
-  double min_x, min_y, max_x, max_y;
-};
-
 // Scores one frame: `labels` of that frame (velodyne frame), the frame's raw `cloud` (to count
-// points inside each label) and the detector's boxes (velodyne frame). With `roi`, a counted
-// label whose centre lies outside it is also counted in outside_roi: the detector crops it away,
+// points inside each label) and the detector's boxes (velodyne frame). With `roi` (the detector's
+// region of interest seen from above, x/y bounds), a counted label whose centre lies outside it is
+// also counted in outside_roi: the detector crops it away,
 // so it is missed whatever the method does.
 DetectionScore scoreFrame(const std::vector<VeloBox>& labels, const Cloud& cloud,
-                          const std::vector<Box3D>& detections, const RoiXY* roi = nullptr);
+                          const std::vector<Box3D>& detections, const Eigen::AlignedBox2d* roi = nullptr);
 
 }  // namespace kitti
 }  // namespace icanc
