@@ -158,8 +158,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   lamp.tau_s = params.lamp_tau_s;
   lamp.recheck_below_s = params.lamp_recheck_below_s;
   lamp.watchdog_enabled = false;  // frames are given, not awaited
-  LightController truth_lamp(lamp);
-  std::size_t truth_on_frames = 0;
+  LightController truth_lamp(lamp), perfect_lamp(lamp);
+  std::size_t truth_on_frames = 0, perfect_on_frames = 0;
   // On perfect tracks the true box is the whole object: footprint_margin_m, which makes up for
   // what the LiDAR does not see of it, is not added.
   DangerParams perfect_danger = params.danger;
@@ -203,11 +203,17 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (inScope(d.center, params)) dets.push_back(d);
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
     std::set<std::uint32_t> flagged_ids;  // true objects flagged (match or fragment) this frame
+    bool any_perfect_flag = false;
+    std::set<std::uint32_t> perfect_flagged;
     for (const TruthObject& o : truth) {
       const DangerAssessment a = assessDanger(perfectTrack(o, f), perfect_danger);
       const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
       count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
+      any_perfect_flag |= flagged;
+      if (flagged) perfect_flagged.insert(o.id);
     }
+    perfect_lamp.onInput(f.t, any_perfect_flag);
+    perfect_on_frames += perfect_lamp.on();
 
     // Detections left over by the one-to-one matching that lie within the match distance of a
     // true object's footprint are fragments of it (a car's roof scan line, a split wall): they
@@ -285,6 +291,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       count(r.danger, outcome);
       if (rows) {
         ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};
+        row.perfect_flagged = perfect_flagged.count(o.id) > 0;
         const int j = by_match || !predicted ? m[i] : flagged_by[i];
         if (j >= 0) {
           row.has_detection = true;
@@ -302,7 +309,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           fragment_of[j] < 0 ? unscoredObjectAt(f.truth, dets[j], params) : nullptr;
       if (unscored) {
         if (rows && dets[j].dangerous)
-          rows->push_back(ScoredRow{f.t, Outcome::kDontCare, true, *unscored, true, false, dets[j]});
+          rows->push_back(ScoredRow{f.t, Outcome::kDontCare, true, *unscored, true, false, dets[j], false});
         continue;
       }
       ++r.detection.fp;
@@ -311,7 +318,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         ++r.false_alarms_unmatched;
         if (rows) {
           rows->push_back(
-              ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j]});
+              ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j], false});
         }
       }
     }
@@ -352,6 +359,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   r.latency_max_ms = percentile(latencies, 1.0);
   r.duty_cycle = ratio(on_frames, r.processed);
   r.truth_duty_cycle = ratio(truth_on_frames, r.processed);
+  r.perfect_tracks_duty_cycle = ratio(perfect_on_frames, r.processed);
   return r;
 }
 
@@ -371,7 +379,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "  speed over ground of static objects' settled tracks: p50 %.2f  p90 %.2f m/s (n %zu)\n"
       "latency cloud -> lamp: p50 %.2f  p90 %.2f  p99 %.2f  max %.2f ms\n"
       "lamp duty cycle %.1f %% (a perfect danger detector: %.1f %%)\n"
-      "danger model on perfect tracks: TP %llu FP %llu FN %llu TN %llu, precision %.2f %%  recall %.2f %%\n",
+      "danger model on perfect tracks: TP %llu FP %llu FN %llu TN %llu, precision %.2f %%  recall %.2f %%, lamp duty %.1f %%\n",
       title.c_str(), r.frames, r.processed, r.ego_motion_faults,
       static_cast<unsigned long long>(r.danger.tp), static_cast<unsigned long long>(r.danger.fp),
       static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
@@ -388,7 +396,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       static_cast<unsigned long long>(r.perfect_tracks.fp),
       static_cast<unsigned long long>(r.perfect_tracks.fn),
       static_cast<unsigned long long>(r.perfect_tracks.tn), 100 * r.perfect_tracks.precision(),
-      100 * r.perfect_tracks.recall());
+      100 * r.perfect_tracks.recall(), 100 * r.perfect_tracks_duty_cycle);
   return buf;
 }
 
@@ -419,7 +427,7 @@ std::string toJson(const EvalReport& r, const std::string& name) {
     << ", \"duty_cycle\": " << r.duty_cycle
     << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << ", ";
   conf("perfect_tracks", r.perfect_tracks);
-  j << "}";
+  j << ", \"perfect_tracks_duty_cycle\": " << r.perfect_tracks_duty_cycle << "}";
   return j.str();
 }
 
@@ -428,7 +436,7 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
   c << "t,outcome,truth_id,truth_type,truth_x,truth_y,truth_length,truth_width,truth_yaw,"
        "truth_vx,truth_vy,truth_ttc_s,"
        "det_id,det_fragment,det_dangerous,det_x,det_y,det_vx,det_vy,det_vx_std,det_vy_std,"
-       "det_x_min,det_x_max,det_y_min,det_y_max,det_age\n";
+       "det_x_min,det_x_max,det_y_min,det_y_max,det_age,perfect_dangerous\n";
   char buf[512];
   for (const ScoredRow& row : rows) {
     std::snprintf(buf, sizeof(buf), "%.3f,%s,", row.t, toString(row.outcome));
@@ -445,14 +453,16 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
     if (row.has_detection) {
       const DetectedObject& d = row.detection;
       std::snprintf(buf, sizeof(buf),
-                    "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u\n", d.id,
+                    "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u,", d.id,
                     row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
                     d.velocity.x(), d.velocity.y(), d.velocity_std.x(), d.velocity_std.y(),
                     d.aabb_min.x(), d.aabb_max.x(), d.aabb_min.y(), d.aabb_max.y(), d.age);
       c << buf;
     } else {
-      c << ",,,,,,,,,,,,,\n";
+      c << ",,,,,,,,,,,,,,";
     }
+    // The model on the true object's perfect track (empty for a false alarm of no true object).
+    c << (row.has_truth ? (row.perfect_flagged ? "1" : "0") : "") << "\n";
   }
   return c.str();
 }

@@ -173,11 +173,16 @@ TEST(Evaluate, RowsExplainEachCountedObjectFrame) {
   EXPECT_NE(csv.find("\n0.500,FN,3,,8.000,6.000,0.000,0.000,0.0000,-1.000,0.000,2.00,,,,"),
             std::string::npos) << csv;
   EXPECT_NE(csv.find("\n0.500,FP,,,,,,,,,,,30,0,1,18.000,3.000,"), std::string::npos) << csv;
+  // The last column: the model on the true object's perfect track; empty without a true object.
+  EXPECT_NE(csv.find(",det_age,perfect_dangerous\n"), std::string::npos) << csv;
+  EXPECT_EQ(csv.substr(csv.size() - 2), ",\n") << csv;  // the detection of nothing
+  const std::string fn_line = csv.substr(csv.find("\n0.500,FN,3,") + 1);
+  EXPECT_EQ(fn_line.substr(fn_line.find('\n') - 2, 2), (rows[2].perfect_flagged ? ",1" : ",0")) << csv;
   // Every line has the header's number of fields.
   std::size_t start = 0;
   while (start < csv.size()) {
     const std::size_t end = csv.find('\n', start);
-    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 25) << csv.substr(start, end - start);
+    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 26) << csv.substr(start, end - start);
     start = end + 1;
   }
 }
@@ -316,6 +321,11 @@ TEST(Evaluate, DangerModelOnPerfectTracks) {
     EXPECT_EQ(r.perfect_tracks.fp, 0u);
     EXPECT_NE(toJson(r, "t").find("\"perfect_tracks\": {\"tp\": " + std::to_string(r.perfect_tracks.tp)),
               std::string::npos);
+    // The lamp driven by those flags: on from the first flagged frame (tau 3 s > the run).
+    const double first_flag = r.perfect_tracks.tp == 5 ? 0 : 5 - static_cast<double>(r.perfect_tracks.tp);
+    EXPECT_DOUBLE_EQ(r.perfect_tracks_duty_cycle, (5.0 - first_flag) / 5.0);
+    EXPECT_NE(toJson(r, "t").find("\"perfect_tracks_duty_cycle\": "), std::string::npos);
+    EXPECT_EQ(r.duty_cycle, 0.0);  // the graph's lamp (no frame says it was on)
     return r.perfect_tracks;
   };
   // The paper's rule: 3.75 m <= 2 m/s * 3 s, heading 180 in the front section, every frame.

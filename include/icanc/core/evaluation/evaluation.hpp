@@ -141,6 +141,9 @@ struct EvalReport {
   // What it misses is the model's, or the truth's (a pedestrian who will stop, or start, is
   // labelled by where it will be): `danger` below this is perception's.
   Confusion perfect_tracks;
+  // The lamp (EvalParams::lamp_*) driven by the danger model on perfect tracks: what the model
+  // itself costs in lamp time once perception is perfect (truth_duty_cycle is the floor).
+  double perfect_tracks_duty_cycle = 0.0;
 };
 
 // One object-frame of the danger score and what decided it: an eligible true object (with the
@@ -162,6 +165,9 @@ struct ScoredRow {
   bool has_detection = false;  // the matched detection, else the flagging fragment, else none
   bool fragment = false;       // the detection is a fragment of the true object, not its match
   DetectedObject detection;
+  // With a truth: whether the danger model flagged the true object on its perfect track this frame
+  // (EvalReport::perfect_tracks), so a row tells perception's share from the model's.
+  bool perfect_flagged = false;
 };
 
 // Distance from a point to the oriented footprint of a true object (0 when inside).
