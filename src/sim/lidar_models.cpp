@@ -72,6 +72,18 @@ LidarModel LidarModel::hdl64e() {
   return m;
 }
 
+LidarModel LidarModel::hdl32e() {
+  // Velodyne HDL-32E: 32 lasers, +10.67 to -30.67 deg every 1.33 deg; about 0.16 deg at 10 Hz.
+  LidarModel m;
+  m.name = "hdl32e";
+  m.vertical_angles_deg = evenly(10.67, -30.67, 32);
+  m.horizontal_resolution_deg = 0.16f;
+  m.rate_hz = 10.0f;
+  m.min_range_m = 1.0f;
+  m.max_range_m = 100.0f;
+  return m;
+}
+
 LidarModel LidarModel::carla128() {
   // The paper's CARLA sensor: 128 channels, 640,000 points/s. CARLA's default fov (upper 10 deg,
   // lower -30 deg); at 10 Hz that is 640000 / 10 / 128 = 500 columns over 360 deg (0.72 deg).
@@ -105,10 +117,11 @@ LidarModel LidarModel::robosenseM1() {
 LidarModel LidarModel::byName(const std::string& name) {
   if (name == "vlp16") return vlp16();
   if (name == "hdl64e") return hdl64e();
+  if (name == "hdl32e") return hdl32e();
   if (name == "carla128") return carla128();
   if (name == "robosense_m1") return robosenseM1();
   throw std::invalid_argument("unknown lidar model '" + name +
-                              "' (expected vlp16, hdl64e, carla128 or robosense_m1)");
+                              "' (expected vlp16, hdl32e, hdl64e, carla128 or robosense_m1)");
 }
 
 }  // namespace sim

@@ -138,8 +138,19 @@ TEST(LidarModel, RobosenseM1IsForwardSolidState) {
   EXPECT_FLOAT_EQ(m.max_range_m, 200.0f);
 }
 
+TEST(LidarModel, Hdl32e) {
+  const LidarModel m = LidarModel::hdl32e();
+  ASSERT_EQ(m.channels(), 32u);
+  EXPECT_NEAR(m.vertical_angles_deg.front(), 10.67, 1e-5);
+  EXPECT_NEAR(m.vertical_angles_deg.back(), -30.67, 1e-5);
+  for (std::size_t i = 1; i < 32; ++i)
+    EXPECT_NEAR(m.vertical_angles_deg[i - 1] - m.vertical_angles_deg[i], 41.34 / 31.0, 1e-4);
+  EXPECT_FLOAT_EQ(m.horizontal_resolution_deg, 0.16f);
+}
+
 TEST(LidarModel, ByName) {
   EXPECT_EQ(LidarModel::byName("vlp16").channels(), 16u);
+  EXPECT_EQ(LidarModel::byName("hdl32e").channels(), 32u);
   EXPECT_EQ(LidarModel::byName("hdl64e").channels(), 64u);
   EXPECT_EQ(LidarModel::byName("carla128").channels(), 128u);
   EXPECT_EQ(LidarModel::byName("robosense_m1").channels(), 126u);

@@ -37,10 +37,12 @@ struct LidarModel {
   double pointsPerSecond() const { return double(channels()) * double(columns()) * rate_hz; }
 
   static LidarModel vlp16();        // Velodyne VLP-16: 16 ch, -15..+15 deg, 0.2 deg, 100 m
+  static LidarModel hdl32e();       // Velodyne HDL-32E: 32 ch, +10.67..-30.67 deg, 0.16 deg, 100 m
   static LidarModel hdl64e();       // Velodyne HDL-64E: 64 ch, +2..-24.9 deg, 0.17 deg, 120 m
   static LidarModel carla128();     // paper's CARLA sensor: 128 ch, 640k points/s at 10 Hz
   static LidarModel robosenseM1();  // forward solid-state like the Zebra's M1: 120 x 25 deg, 200 m
-  // "vlp16" | "hdl64e" | "carla128" | "robosense_m1"; throws std::invalid_argument otherwise.
+  // "vlp16" | "hdl32e" | "hdl64e" | "carla128" | "robosense_m1"; throws std::invalid_argument
+  // otherwise.
   static LidarModel byName(const std::string& name);
 };
 
