@@ -55,6 +55,11 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_FLOAT_EQ(carla.detector.ground.expected_height_m, 0.0f);
   EXPECT_FLOAT_EQ(kitti.detector.ground.expected_height_m, -1.73f);
   for (const Profile* p : {&zebra, &carla, &kitti}) {
+    // The paper's single lamp (issue 23: segments [] = one segment, every direction).
+    EXPECT_TRUE(p->lamp.segments.empty());
+    EXPECT_EQ(effectiveSegments(p->lamp).size(), 1u);
+    EXPECT_DOUBLE_EQ(p->lamp.segment_margin_deg, 2.0);
+    EXPECT_DOUBLE_EQ(p->lamp.low_beam_below_m, 15.0);
     EXPECT_FLOAT_EQ(p->detector.ground.max_height_error_m, 0.5f);
     EXPECT_FLOAT_EQ(p->detector.footprint_cell_m, 1.0f);
     EXPECT_DOUBLE_EQ(p->detector.tracker.accel_std, 3.0);
@@ -95,6 +100,36 @@ TEST(Profiles, BadValueNamesFileAndKey) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("tracker.anchor"), std::string::npos) << e.what();
   }
+  {
+    std::ofstream out(path);
+    out << "light_controller:\n  segments:\n    - {azimuth_min_deg: -10, azimuth_max_deg: 10, watts: 3}\n"
+           "    - {azimuth_min_deg: 10, azimuth_max_deg: 30, wats: 3}\n";
+  }
+  try {
+    loadProfile(path);
+    FAIL() << "a misspelt segment key was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("segments[1]: unknown key 'wats'"), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(path);
+    out << "light_controller:\n  segments:\n    - {azimuth_min_deg: 10, azimuth_max_deg: -10, watts: 3}\n";
+  }
+  try {
+    loadProfile(path);
+    FAIL() << "a segment with min > max was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("segments[0].azimuth_min_deg"), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(path);
+    out << "light_controller:\n  segments:\n    - {azimuth_min_deg: -90, azimuth_max_deg: 0, watts: 3, low_watts: 2}\n"
+           "    - {azimuth_min_deg: 0, azimuth_max_deg: 90, watts: 3}\n";
+  }
+  const Profile two = loadProfile(path);
+  ASSERT_EQ(two.lamp.segments.size(), 2u);
+  EXPECT_DOUBLE_EQ(two.lamp.segments[0].low_watts, 2.0);
+  EXPECT_DOUBLE_EQ(two.lamp.segments[1].azimuth_max_deg, 90.0);
   std::remove(path.c_str());
 }
 
