@@ -2,7 +2,8 @@
 // approach_front.yaml walk straight at it. lamp_command must light only the two segments either
 // side of straight ahead (low beam: the danger starts within 6 m), light all 8 in the fail-safe
 // before clouds flow, and agree with the binary lamp (light_state, lamp_cmd) on every publication;
-// ~lamp_segments draws the 8 wedges while subscribed.
+// ~lamp_segments draws the 8 wedges while subscribed. segments_fault.test: an invalid segment list
+// is a faulted LightController that lights every segment (and the binary lamp).
 #include <map>
 
 #include <gtest/gtest.h>
@@ -85,6 +86,33 @@ TEST(SegmentedLamp, LightsOnlyWhereTheDangerIsAndAgreesWithTheBinaryLamp) {
   EXPECT_GT(compared, g.scenario().frames() / 2);
   EXPECT_GT(cr.marker_arrays, 0u);
   EXPECT_EQ(cr.markers, 8u);
+}
+
+TEST(SegmentedLamp, InvalidSegmentsLightEverySegment) {
+  ros::NodeHandle nh;
+  CommandRecorder cr;
+  ros::Subscriber command_sub = nh.subscribe("/icanc/lamp_command", 50, &CommandRecorder::onCommand, &cr);
+  std::mutex mutex;
+  std::vector<LightState::ConstPtr> states;
+  auto state_sub = nh.subscribe<LightState>("/icanc/light_state", 50, [&](const LightState::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    states.push_back(m);
+  });
+  ASSERT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> l(cr.mutex);
+    return cr.commands.size() >= 5;
+  }, 30.0)) << "a faulted LightController must still publish lamp_command";
+  std::lock_guard<std::mutex> l(cr.mutex);
+  for (const auto& c : cr.commands) {
+    EXPECT_EQ(c->reason, LightState::REASON_FAULT);
+    EXPECT_EQ(c->levels, std::vector<float>(3, 1.0f)) << "the profile's 3 segments, all ON";
+  }
+  std::lock_guard<std::mutex> ls(mutex);
+  ASSERT_FALSE(states.empty());
+  for (const auto& s : states) {
+    EXPECT_TRUE(s->on);
+    EXPECT_EQ(s->reason, LightState::REASON_FAULT);
+  }
 }
 
 }  // namespace
