@@ -38,13 +38,7 @@ TEST(SegmentedLamp, LightsOnlyWhereTheDangerIsAndAgreesWithTheBinaryLamp) {
   ASSERT_TRUE(waitFor([&] { return command_sub.getNumPublishers() > 0; }, 10.0));
   ros::WallDuration(0.5).sleep();  // the fail-safe commands before the first cloud
 
-  const ros::Time t0 = ros::Time::now();
-  ros::Rate rate(g.scenario().rate_hz);
-  for (std::size_t k = 0; k < g.scenario().frames() && ros::ok(); ++k) {
-    const double t = k / g.scenario().rate_hz;
-    g.publishFrame(t, t0 + ros::Duration(t));
-    rate.sleep();
-  }
+  const ros::Time t0 = g.playScenario();
   ros::WallDuration(0.5).sleep();
   command_sub.shutdown();
   marker_sub.shutdown();
