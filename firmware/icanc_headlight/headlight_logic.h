@@ -80,6 +80,43 @@ class HeadlightLogic {
   HeadlightReason reason_;
 };
 
+// Segmented lamp (issue 23): the PWM duty of each segment pin from the host's std_msgs/
+// UInt8MultiArray levels. A segment follows its level only while the HeadlightLogic is in a
+// commanded state (the link is up and the Bool command is fresh) and levels came within the
+// command timeout; otherwise, and for a segment beyond the levels received, it is full ON (255).
+class SegmentLevels {
+ public:
+  static const uint8_t kMaxSegments = 8;
+
+  explicit SegmentLevels(uint32_t timeout_ms = HeadlightLogic::kDefaultTimeoutMs)
+      : timeout_ms_(timeout_ms), count_(0), has_levels_(false), last_ms_(0) {}
+
+  void onLevels(const uint8_t* levels, uint32_t n, uint32_t now_ms) {
+    count_ = n < kMaxSegments ? static_cast<uint8_t>(n) : kMaxSegments;
+    for (uint8_t i = 0; i < count_; ++i) levels_[i] = levels[i];
+    has_levels_ = true;
+    last_ms_ = now_ms;
+  }
+
+  // The duty of segment i (0..255) after HeadlightLogic::update at now_ms.
+  uint8_t duty(uint8_t i, const HeadlightLogic& logic, uint32_t now_ms) const {
+    const bool commanded = logic.reason() == kCommandedOn || logic.reason() == kCommandedOff;
+    const bool fresh = has_levels_ && static_cast<uint32_t>(now_ms - last_ms_) < timeout_ms_;
+    if (!commanded || !fresh || i >= count_) return 255;
+    return levels_[i];
+  }
+
+  // A disconnect forgets the levels, as HeadlightLogic forgets its command.
+  void onDisconnect() { has_levels_ = false; }
+
+ private:
+  uint32_t timeout_ms_;
+  uint8_t levels_[kMaxSegments];
+  uint8_t count_;
+  bool has_levels_;
+  uint32_t last_ms_;
+};
+
 }  // namespace icanc_fw
 
 #endif  // ICANC_HEADLIGHT_LOGIC_H

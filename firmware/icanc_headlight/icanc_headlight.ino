@@ -4,6 +4,10 @@
 //
 //   subscribes  lamp_cmd    std_msgs/Bool   the host's command, repeated at its heartbeat rate
 //   publishes   lamp_state  std_msgs/Bool   the pin's actual state, on change and every 100 ms
+//   subscribes  lamp_levels std_msgs/UInt8MultiArray   segment levels 0..255 (issue 23), for a
+//               segmented lamp: the bridge's ~device_levels_topic; one PWM pin per segment
+//               (SEGMENT_PINS, in the profile's segment order), full ON unless the link is up, the
+//               Bool command fresh and levels came within COMMAND_TIMEOUT_MS (headlight_logic.h)
 //
 // Fail-safe (headlight_logic.h): the lamp is ON at power-up until the host speaks, whenever the
 // node handle is not connected, and when no command came for COMMAND_TIMEOUT_MS.
@@ -16,6 +20,7 @@
 // rate its ~baud (57600 default, 115200 supported).
 #include <ros.h>
 #include <std_msgs/Bool.h>
+#include <std_msgs/UInt8MultiArray.h>
 
 #include "headlight_logic.h"
 
@@ -24,6 +29,11 @@ const bool LAMP_ACTIVE_HIGH = true;
 const uint32_t COMMAND_TIMEOUT_MS = 500;  // > 2 heartbeat periods of the bridge (10 Hz)
 const uint32_t STATE_PERIOD_MS = 100;     // the bridge's link_timeout_s watches this
 const long BAUD = 57600;
+// PWM pins of the segments (an Uno has six: 3, 5, 6, 9, 10, 11; a Mega more, up to
+// SegmentLevels::kMaxSegments). SEGMENT_COUNT 0: the paper's binary lamp alone (lamp_levels is
+// then not subscribed).
+const uint8_t SEGMENT_PINS[] = {3, 5, 6, 9, 10, 11};
+const uint8_t SEGMENT_COUNT = sizeof(SEGMENT_PINS);
 
 ros::NodeHandle nh;
 icanc_fw::HeadlightLogic logic(COMMAND_TIMEOUT_MS);
@@ -34,20 +44,30 @@ ros::Publisher state_pub("lamp_state", &state_msg);
 void onCommand(const std_msgs::Bool& msg) { logic.onCommand(msg.data, millis()); }
 ros::Subscriber<std_msgs::Bool> cmd_sub("lamp_cmd", &onCommand);
 
+icanc_fw::SegmentLevels segments(COMMAND_TIMEOUT_MS);
+void onLevels(const std_msgs::UInt8MultiArray& msg) { segments.onLevels(msg.data, msg.data_length, millis()); }
+ros::Subscriber<std_msgs::UInt8MultiArray> levels_sub("lamp_levels", &onLevels);
+
 bool lamp_on = true;
 uint32_t last_state_ms = 0;
 icanc_fw::HeadlightReason last_reason = icanc_fw::kNoCommandYet;
 
 void writeLamp(bool on) { digitalWrite(LAMP_PIN, on == LAMP_ACTIVE_HIGH ? HIGH : LOW); }
+void writeSegment(uint8_t i, uint8_t duty) { analogWrite(SEGMENT_PINS[i], LAMP_ACTIVE_HIGH ? duty : 255 - duty); }
 
 void setup() {
   writeLamp(true);  // set the level before the pin becomes an output: no OFF glitch
   pinMode(LAMP_PIN, OUTPUT);
   writeLamp(true);
+  for (uint8_t i = 0; i < SEGMENT_COUNT; ++i) {  // every segment ON from the start, no glitch
+    digitalWrite(SEGMENT_PINS[i], LAMP_ACTIVE_HIGH ? HIGH : LOW);
+    pinMode(SEGMENT_PINS[i], OUTPUT);
+  }
   nh.getHardware()->setBaud(BAUD);
   nh.initNode();
   nh.advertise(state_pub);
   nh.subscribe(cmd_sub);
+  if (SEGMENT_COUNT > 0) nh.subscribe(levels_sub);
 }
 
 void loop() {
@@ -55,6 +75,8 @@ void loop() {
   const uint32_t now = millis();
   const bool on = logic.update(nh.connected(), now);
   if (on != lamp_on) writeLamp(on);
+  if (!nh.connected()) segments.onDisconnect();
+  for (uint8_t i = 0; i < SEGMENT_COUNT; ++i) writeSegment(i, segments.duty(i, logic, now));
   if (on != lamp_on || now - last_state_ms >= STATE_PERIOD_MS) {
     state_msg.data = on;
     state_pub.publish(&state_msg);  // ros_lib drops it while not connected

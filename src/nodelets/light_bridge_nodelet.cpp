@@ -10,6 +10,8 @@
 //   ~device_cmd_topic, ~device_state_topic, ~heartbeat_hz, ~link_timeout_s, ~negotiation_retry_s,
 //   ~cmd_stale_timeout_s, ~frame_timeout_s, ~max_payload_bytes   see LightBridgeParams
 //   ~reconnect_period_s (1.0)       reopening attempts while the port is missing [s]
+//   ~device_levels_topic ("")       a segmented lamp (issue 23): lamp_command (icanc/LampCommand)
+//       levels, as 0..255, to the device's std_msgs/UInt8MultiArray subscriber of this name
 //   ~link_up (std_msgs/Bool, latched)  true while the device is synced (false on a type mismatch)
 //   lamp_status (icanc/LampState, latched)  stamped: ON / OFF as reported, UNKNOWN_FAILSAFE while
 //       the link is down (the device's command timeout turns it ON), NOT_REPORTED for a device
@@ -17,6 +19,7 @@
 // Device errors are throttled per kind (10 s each), so one repeated fault cannot hide another.
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -29,6 +32,7 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <std_msgs/Bool.h>
 
+#include "icanc/LampCommand.h"
 #include "icanc/LampState.h"
 #include "icanc/core/bridge/rosserial_session.hpp"
 #include "icanc/core/bridge/serial_port.hpp"
@@ -86,6 +90,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     reader.read("reconnect_period_s", reconnect_period_s_);
     reader.read("device_cmd_topic", params.device_cmd_topic);
     reader.read("device_state_topic", params.device_state_topic);
+    reader.read("device_levels_topic", params.device_levels_topic);
     reader.read("heartbeat_hz", params.heartbeat_hz);
     reader.read("link_timeout_s", params.link_timeout_s);
     reader.read("negotiation_retry_s", params.negotiation_retry_s);
@@ -115,6 +120,9 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     publishStatus(steadyNow());
     sub_ = nh.subscribe("lamp_cmd", 10, &LightBridgeNodelet::onCommand, this, ros::TransportHints().tcpNoDelay());
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
+    if (!params.device_levels_topic.empty())  // a segmented lamp (issue 23): its levels too
+      levels_sub_ = nh.subscribe("lamp_command", 10, &LightBridgeNodelet::onLevels, this,
+                                 ros::TransportHints().tcpNoDelay());
     running_ = true;
     thread_ = std::thread(&LightBridgeNodelet::ioLoop, this);
     NODELET_INFO("LightBridge: %s at %d baud, device topics '%s' (commands, %.1f Hz heartbeat) and "
@@ -136,6 +144,22 @@ class LightBridgeNodelet : public nodelet::Nodelet {
       if (latencies_ms_.size() > 1000) latencies_ms_.pop_front();
     }
     input_->processed((steadyNow() - t0) * 1000.0);
+  }
+
+  // icanc/LampCommand levels (0..1) as 0..255 to the device's device_levels_topic.
+  void onLevels(const LampCommand::ConstPtr& msg) {
+    const double now = steadyNow();
+    std::vector<std::uint8_t> levels(msg->levels.size());
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+      const float l = msg->levels[i];
+      levels[i] = std::isfinite(l) ? static_cast<std::uint8_t>(std::lround(255.0f * std::min(std::max(l, 0.0f), 1.0f)))
+                                   : 255;  // not a number: ON
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++level_cmds_;
+    SessionOutput out;
+    session_->onLevels(levels, now, out);
+    handle(out, now);
   }
 
   void ioLoop() {
@@ -358,6 +382,11 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     stat.add("link losses", s.link_losses);
     stat.add("topic requests", s.topic_requests);
     stat.add("lamp_cmd received", lamp_cmds_);
+    if (!session_->params().device_levels_topic.empty()) {
+      stat.add("lamp_command (segment levels) received", level_cmds_);
+      stat.add("segment level frames sent", s.levels_sent);
+      stat.add("device levels topic id", session_->levelsTopicId());
+    }
     stat.add("commands sent", s.commands_sent);
     stat.add("fail-safe ON commands (lamp_cmd stale)", s.stale_commands);
     stat.add("lamp reports", s.lamp_reports);
@@ -388,7 +417,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
   std::unique_ptr<InputMonitor> input_;  // lamp_cmd (the LightController publishes >= publish_rate_hz)
   double expected_rate_hz_ = 10.0;
   ros::Publisher state_pub_, link_pub_, status_pub_;
-  ros::Subscriber sub_;
+  ros::Subscriber sub_, levels_sub_;
   std::thread thread_;
   std::condition_variable wake_;
 
@@ -399,6 +428,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
   std::string last_error_;
   std::string write_error_;  // set by a failed write, the I/O thread then closes the port
   std::uint64_t port_opens_ = 0, port_losses_ = 0, open_failures_ = 0, lamp_cmds_ = 0, tx_bytes_ = 0;
+  std::uint64_t level_cmds_ = 0;
   static constexpr double kStockLinkTimeoutS = 5.0;  // two ros_lib time-sync periods [s]
   static constexpr double kErrorPeriodS = 10.0;      // per-kind throttle of device errors [s]
   ErrorThrottle error_throttle_{kErrorPeriodS};

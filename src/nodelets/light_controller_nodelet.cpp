@@ -2,8 +2,14 @@
 // DangerDetector's output. Publishes icanc/LightState and std_msgs/Bool on every change and at a
 // steady rate, and the lamp as rviz markers on `markers` while someone listens. Time is ROS time
 // (sim time during replay).
+// Beside it, the segmented lamp (issue 23, icanc/segmented_light_controller.hpp): the dangerous
+// boxes of the same ObstacleArray light the segments that see them; icanc/LampCommand on
+// `lamp_command`, wedges on `~lamp_segments` while someone listens. `lamp_cmd` stays the paper's
+// binary lamp (with the default one-segment lamp it is exactly "any segment on").
+#include <algorithm>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include <boost/make_shared.hpp>
 #include <nodelet/nodelet.h>
@@ -11,10 +17,12 @@
 #include <std_msgs/Bool.h>
 
 #include "icanc/IlluminationState.h"
+#include "icanc/LampCommand.h"
 #include "icanc/LightControllerConfig.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/light/light_controller.hpp"
+#include "icanc/core/light/segmented_light_controller.hpp"
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/markers.hpp"
 #include "icanc/ros/nodelet_support.hpp"
@@ -30,12 +38,16 @@ class LightControllerNodelet : public nodelet::Nodelet {
     ParamReader reader(pnh);
     LightControllerParams params;
     readParams(reader, params);
+    SegmentLampParams lamp;
+    readParams(reader, lamp);
+    fault_segments_ = std::max<std::size_t>(1, lamp.segments.size());
     reader.read("publish_rate_hz", publish_rate_hz_);
     reader.read("tick_rate_hz", tick_rate_hz_);
     bool trace = false;
     reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
     const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     std::string why = validate(params);
+    if (why.empty()) why = validate(lamp);
     if (why.empty()) why = rate_problem;
     if (why.empty() && !(publish_rate_hz_ > 0.0)) why = "publish_rate_hz must be > 0";
     if (why.empty() && !(tick_rate_hz_ >= publish_rate_hz_))
@@ -47,6 +59,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
       return;
     }
     controller_.reset(new LightController(params));
+    segmented_.reset(new SegmentedLightController(params, lamp));
 
     // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
     // onInit is still running on a loaded machine.
@@ -56,6 +69,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
+    command_pub_ = nh.advertise<LampCommand>("lamp_command", 10);
+    segment_marker_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("lamp_segments", 2);
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
@@ -64,8 +79,9 @@ class LightControllerNodelet : public nodelet::Nodelet {
       NODELET_INFO("LightController: illumination gate on %s (no danger lamp in daylight)",
                    illumination_sub_.getTopic().c_str());
     }
-    NODELET_INFO("LightController: tau %.2f s, recheck below %.2f s, watchdog %.2f s",
-                 params.tau_s, params.recheck_below_s, params.stale_timeout_s);
+    NODELET_INFO("LightController: tau %.2f s, recheck below %.2f s, watchdog %.2f s, %zu lamp "
+                 "segment(s)", params.tau_s, params.recheck_below_s, params.stale_timeout_s,
+                 segmented_->segments().size());
     if (!params.watchdog_enabled)
       NODELET_WARN("LightController: watchdog_enabled is false: no fail-safe lamp when the input "
                    "stops (offline use only)");
@@ -88,6 +104,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     });
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
+    command_pub_ = nh.advertise<LampCommand>("lamp_command", 10);
     const double rate_hz = publish_rate_hz_ > 0.0 && publish_rate_hz_ < 1e3 ? publish_rate_hz_ : 10.0;
     timer_ = nh.createTimer(ros::Duration(1.0 / rate_hz), [this](const ros::TimerEvent&) {
       auto state = boost::make_shared<LightState>();
@@ -97,8 +114,14 @@ class LightControllerNodelet : public nodelet::Nodelet {
       state->reason_text = toString(LightReason::kFault);
       auto lamp = boost::make_shared<std_msgs::Bool>();
       lamp->data = true;
+      auto command = boost::make_shared<LampCommand>();  // every segment ON
+      command->header = state->header;
+      command->levels.assign(fault_segments_, 1.0f);
+      command->reason = state->reason;
+      command->reason_text = state->reason_text;
       state_pub_.publish(LightState::ConstPtr(state));
       lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
+      command_pub_.publish(LampCommand::ConstPtr(command));
     });
     NODELET_ERROR("LightController cannot start (%s): publishing lamp ON (reason fault)", why.c_str());
   }
@@ -120,6 +143,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
       trigger_receive_time_ = msg->cloud_receive_time;
       trigger_dangerous_ = msg->num_dangerous;
     }
+    segmentInput(*msg, now.toSec());
     // Every input is answered (replay tools wait for it); changes are among them.
     publish(now, true);
     input_->processed((ros::WallTime::now() - received).toSec() * 1e3);
@@ -136,27 +160,49 @@ class LightControllerNodelet : public nodelet::Nodelet {
       NODELET_ERROR_THROTTLE(5.0, "illumination state %u is invalid: treated as unknown", msg->state);
     }
     illumination_ = state;
-    if (controller_->onIllumination(now.toSec(), state)) publish(now, false);
+    const bool segments_changed = segmented_->onIllumination(now.toSec(), state);
+    if (controller_->onIllumination(now.toSec(), state) || segments_changed) publish(now, false);
   }
 
   void onTick(const ros::TimerEvent&) {
     std::lock_guard<std::mutex> lock(mutex_);
     applyTunedParams();
     const ros::Time now = ros::Time::now();
+    const bool segments_changed = segmented_->tick(now.toSec());
     const bool changed = controller_->tick(now.toSec());
     if (changed && controller_->reason() == LightReason::kSensorStale) {
       ++stale_events_;
       NODELET_WARN("no input on %s for %.2f s: lamp ON (fail-safe)", sub_.getTopic().c_str(),
                    controller_->params().stale_timeout_s);
     }
-    if (changed || (now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_)
+    if (changed || segments_changed || (now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ ||
+        now < last_publish_)
       publish(now, false);
   }
 
   // With mutex_ held: a dynamic_reconfigure change, from this input or tick on.
   void applyTunedParams() {
     LightControllerParams tuned;
-    if (live_->take(tuned)) controller_->setParams(tuned);
+    if (!live_->take(tuned)) return;
+    controller_->setParams(tuned);
+    segmented_->setParams(tuned);
+  }
+
+  // With mutex_ held: the input's dangerous boxes (x-y of their axis-aligned bounds) to the
+  // segmented lamp. A count of dangerous objects above the flagged boxes is danger of unknown
+  // place: every segment lights.
+  void segmentInput(const ObstacleArray& msg, double now) {
+    boxes_.clear();
+    for (const Obstacle& o : msg.obstacles)
+      if (o.dangerous)
+        boxes_.emplace_back(Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y), Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y));
+    const bool unlocated = msg.num_dangerous > boxes_.size();
+    if (unlocated) {
+      ++unlocated_inputs_;
+      NODELET_ERROR_THROTTLE(5.0, "num_dangerous %u but %zu obstacles flagged dangerous: every lamp "
+                             "segment on", msg.num_dangerous, boxes_.size());
+    }
+    segmented_->onInput(now, boxes_, msg.sensor_blind, unlocated);
   }
 
   void publish(const ros::Time& now, bool answers_input) {
@@ -178,9 +224,19 @@ class LightControllerNodelet : public nodelet::Nodelet {
     if (state->on != last_on_) ++transitions_;
     last_on_ = state->on;
     last_publish_ = now;
+    auto command = boost::make_shared<LampCommand>();
+    command->header.stamp = now;
+    command->levels = segmented_->levels();
+    command->reason = static_cast<std::uint8_t>(segmented_->reason());
+    command->reason_text = toString(segmented_->reason());
     state_pub_.publish(LightState::ConstPtr(state));
     lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
+    command_pub_.publish(LampCommand::ConstPtr(command));
     if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
+    if (segment_marker_pub_.getNumSubscribers() > 0)
+      segment_marker_pub_.publish(segmentMarkers(*command, segmented_->segments(),
+                                                 segmented_->lamp().lamp_position_m, marker_frame_,
+                                                 20.0, marker_style_));
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -208,16 +264,25 @@ class LightControllerNodelet : public nodelet::Nodelet {
       stat.add("invalid illumination messages", bad_illumination_);
     }
     stat.add("tau_s", controller_->params().tau_s);
+    const std::vector<float> levels = segmented_->levels();
+    stat.add("lamp segments", levels.size());
+    stat.add("lamp segments lit", std::count_if(levels.begin(), levels.end(), [](float l) { return l > 0.0f; }));
+    stat.add("dangerous objects outside every segment", segmented_->unlitObjects());
+    stat.add("inputs with unlocated danger (all segments on)", unlocated_inputs_);
     live_->addTo(stat);
   }
 
   std::unique_ptr<LightController> controller_;
+  std::unique_ptr<SegmentedLightController> segmented_;
+  std::vector<Eigen::AlignedBox2d> boxes_;  // the input's dangerous boxes (reused)
+  std::size_t fault_segments_ = 1;          // levels published by the fault path
+  std::uint64_t unlocated_inputs_ = 0;
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   double expected_rate_hz_ = 10.0;
   ZeroCopyPublisher state_pub_;
   std::unique_ptr<LiveParams<LightControllerConfig, LightControllerParams>> live_;
-  ros::Publisher lamp_pub_, marker_pub_;
+  ros::Publisher lamp_pub_, marker_pub_, command_pub_, segment_marker_pub_;
   MarkerStyle marker_style_;
   std::string marker_frame_ = "base_link";  // the input's frame once it flows
   ros::Subscriber sub_;

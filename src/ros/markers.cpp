@@ -1,6 +1,7 @@
 #include "icanc/ros/markers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace icanc {
@@ -123,6 +124,36 @@ visualization_msgs::MarkerArray lampMarkers(const LightState& state, const std::
   else
     std::snprintf(label, sizeof(label), "lamp off");
   out.markers.push_back(text(h, kLampNs, 1, point(0.0, 0.0, 2.6), label, style));
+  return out;
+}
+
+visualization_msgs::MarkerArray segmentMarkers(const LampCommand& command,
+                                               const std::vector<LampSegment>& segments,
+                                               const Eigen::Vector3f& lamp_position,
+                                               const std::string& frame, double range_m,
+                                               const MarkerStyle& style) {
+  using visualization_msgs::Marker;
+  visualization_msgs::MarkerArray out;
+  std_msgs::Header h = command.header;
+  h.frame_id = frame;
+  constexpr double kStepDeg = 5.0;  // arc resolution
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const float level = i < command.levels.size() ? command.levels[i] : 1.0f;
+    Marker m = marker(h, kSegmentsNs, int(i), Marker::TRIANGLE_LIST, style);
+    m.pose.position = point(lamp_position.x(), lamp_position.y(), 0.05);
+    m.color = level > 0.0f ? rgba(1.0f, 0.9f, 0.2f, 0.15f + 0.45f * std::min(level, 1.0f))
+                           : rgba(0.5f, 0.5f, 0.5f, 0.08f);
+    const double lo = segments[i].azimuth_min_deg, hi = segments[i].azimuth_max_deg;
+    const int steps = std::max(1, int(std::ceil((hi - lo) / kStepDeg)));
+    for (int k = 0; k < steps; ++k) {
+      const double a0 = (lo + (hi - lo) * k / steps) * M_PI / 180.0;
+      const double a1 = (lo + (hi - lo) * (k + 1) / steps) * M_PI / 180.0;
+      m.points.push_back(point(0.0, 0.0, 0.0));
+      m.points.push_back(point(range_m * std::cos(a0), range_m * std::sin(a0), 0.0));
+      m.points.push_back(point(range_m * std::cos(a1), range_m * std::sin(a1), 0.0));
+    }
+    out.markers.push_back(m);
+  }
   return out;
 }
 

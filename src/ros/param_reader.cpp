@@ -100,6 +100,38 @@ void ParamReader::read(const std::string& key, Eigen::Vector3f& value) {
   value = Eigen::Vector3f(xyz[0], xyz[1], xyz[2]);
 }
 
+void ParamReader::read(const std::string& key, std::vector<LampSegment>& value) {
+  XmlRpc::XmlRpcValue v;
+  if (!fetch(key, v)) return;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+    addError(key, std::string("must be a list of segments (got ") + typeName(v) + ")");
+    return;
+  }
+  std::vector<LampSegment> segments(v.size());
+  for (int i = 0; i < v.size(); ++i) {
+    const std::string entry = key + "[" + std::to_string(i) + "]";
+    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeStruct) {
+      addError(entry, std::string("must be a dictionary of numbers (got ") + typeName(v[i]) + ")");
+      return;
+    }
+    for (auto& kv : v[i]) {
+      XmlRpc::XmlRpcValue& x = kv.second;
+      std::string why;
+      if (x.getType() == XmlRpc::XmlRpcValue::TypeDouble)
+        why = setSegmentKey(segments[i], kv.first, static_cast<double>(x));
+      else if (x.getType() == XmlRpc::XmlRpcValue::TypeInt)
+        why = setSegmentKey(segments[i], kv.first, static_cast<int>(x));
+      else
+        why = kv.first + " must be a number (got " + typeName(x) + ")";
+      if (!why.empty()) {
+        addError(entry, why);
+        return;
+      }
+    }
+  }
+  value = segments;
+}
+
 std::vector<std::string> ParamReader::unknownKeys() const {
   std::vector<std::string> names, unknown;
   ros::NodeHandle root;
@@ -116,6 +148,7 @@ std::vector<std::string> ParamReader::unknownKeys() const {
 void readParams(ParamReader& r, ObstacleDetectorParams& p) { visitParams(r, p); }
 void readParams(ParamReader& r, DangerParams& p) { visitParams(r, p); }
 void readParams(ParamReader& r, LightControllerParams& p) { visitParams(r, p); }
+void readParams(ParamReader& r, SegmentLampParams& p) { visitParams(r, p); }
 void readParams(ParamReader& r, IlluminationParams& p) { visitParams(r, p); }
 
 }  // namespace icanc

@@ -11,6 +11,10 @@
 // --danger-fraction replaces the Monte Carlo run for the exact table (the paper table always uses
 // the paper's 0.21).
 //
+// Segmented lamp (issue 23, docs/segmented_lamp.md): beside each table, every lamp split evenly
+// into --segments N (8) segments, each dangerous object lighting --segments-lit K (2) of them in
+// the average and best cases (the worst case is every segment always on).
+//
 // From a bag: the lamp's actual on-time from icanc/LightState messages (header stamps; each state
 // holds until the next message), Wh per lamp and the saving against always-on over the same span.
 //
@@ -18,7 +22,9 @@
 //
 // A bag from icanc_sim_bag holds only the clouds: record the replay's light states, e.g.
 //   rosbag record -O run.bag /icanc/light_state   (while roslaunch icanc replay.launch bag:=...)
-// or use scripts/utilisation, which records them.
+// or use scripts/utilisation, which records them. When the bag also holds icanc/LampCommand on
+// --lamp-topic (/icanc/lamp_command), the segmented lamp's Wh beside the binary lamp's: each
+// catalogue lamp split evenly over the command's segments, each segment watts x level.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,8 +36,10 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include "icanc/LampCommand.h"
 #include "icanc/LightState.h"
 #include "icanc/core/evaluation/energy.hpp"
+#include "icanc/core/evaluation/segment_energy.hpp"
 #include "icanc/core/evaluation/monte_carlo.hpp"
 
 namespace {
@@ -40,8 +48,9 @@ void usage(std::FILE* out = stderr) {
   std::fprintf(out,
                "usage: icanc_energy [--lamps FILE] [--beam high|low] [--drive-min 22] [--objects 47]\n"
                "                    [--tau 3] [--danger-fraction F] [--seed 1] [--csv out.csv]\n"
+               "                    [--segments 8] [--segments-lit 2]\n"
                "       icanc_energy --bag BAG [--topic /icanc/light_state] [--lamps FILE]\n"
-               "                    [--beam high|low] [--csv out.csv]\n");
+               "                    [--lamp-topic /icanc/lamp_command] [--beam high|low] [--csv out.csv]\n");
 }
 
 double toDouble(const std::string& flag, const char* text) {
@@ -51,8 +60,17 @@ double toDouble(const std::string& flag, const char* text) {
   return v;
 }
 
+std::size_t toCount(const std::string& flag, const char* text, double max) {
+  const double v = toDouble(flag, text);
+  if (!(v >= 1.0 && v <= max && v == std::floor(v)))
+    throw std::invalid_argument(flag + " wants a whole number in [1, " + std::to_string(int(max)) + "]");
+  return static_cast<std::size_t>(v);
+}
+
 struct Options {
   std::string lamps_path, csv_path, bag_path, topic = "/icanc/light_state";
+  std::string lamp_topic = "/icanc/lamp_command";
+  std::size_t segments = 8, segments_lit = 2;
   icanc::Beam beam = icanc::Beam::kHigh;
   icanc::DriveScenario drive;
   bool fraction_given = false;
@@ -117,6 +135,13 @@ int paperCases(const Options& o, const icanc::LampCatalogue& lamps) {
               fraction_source.c_str());
   printTable(exact_rows, "%.5f");
 
+  std::printf("\nSegmented lamp (issue 23): each lamp as %zu equal segments, %zu lit per dangerous "
+              "object (worst: all always on)\n", o.segments, o.segments_lit);
+  std::printf("As the paper rounds:\n");
+  printTable(icanc::segmentedEnergyTable(lamps, paper_cases, o.beam, o.segments, o.segments_lit), "%.3f");
+  std::printf("Exact:\n");
+  printTable(icanc::segmentedEnergyTable(lamps, exact_cases, o.beam, o.segments, o.segments_lit), "%.5f");
+
   if (!o.csv_path.empty()) {
     std::FILE* f = openCsv(o.csv_path);
     std::fprintf(f, "rounding,lamp,label,beam,watts,case,danger_fraction,on_hours,wh,saving_wh,saving_pct\n");
@@ -132,6 +157,41 @@ int paperCases(const Options& o, const icanc::LampCatalogue& lamps) {
     std::printf("\nwrote %s\n", o.csv_path.c_str());
   }
   return 0;
+}
+
+// The segmented lamp's levels on o.lamp_topic, beside the binary lamp's on-time `binary`.
+void segmentedFromBag(const Options& o, const rosbag::Bag& bag, const icanc::LampCatalogue& lamps,
+                      const icanc::OnTime& binary) {
+  rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{o.lamp_topic}));
+  std::vector<icanc::LevelSample> samples;
+  std::size_t segments = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    const icanc::LampCommand::ConstPtr c = m.instantiate<icanc::LampCommand>();
+    if (!c) throw std::runtime_error(o.lamp_topic + " in " + o.bag_path + " is not icanc/LampCommand");
+    const double t = c->header.stamp.isZero() ? m.getTime().toSec() : c->header.stamp.toSec();
+    samples.push_back({t, c->levels});
+    if (c->reason != icanc::LightState::REASON_FAULT && !segments) segments = c->levels.size();
+  }
+  if (samples.empty()) {
+    std::printf("\n(no icanc/LampCommand on %s: no segmented lamp in this bag)\n", o.lamp_topic.c_str());
+    return;
+  }
+  if (!segments) segments = samples.front().levels.size();
+  const icanc::SegmentEnergy e0 =
+      icanc::integrateSegmentEnergy(samples, samples.back().t_s, std::vector<double>(segments, 1.0));
+  std::printf("\nSegmented lamp from %s (%zu commands, %zu segments): any segment on %.2f s; "
+              "lit segment-seconds %.2f of %.2f\n", o.lamp_topic.c_str(), samples.size(), segments,
+              e0.any_on_s, e0.wh * 3600.0, e0.wh_all_on * 3600.0);
+  std::printf("  %-20s %6s %12s %14s %10s\n", "lamp", "W", "Wh binary", "Wh segmented", "ratio");
+  for (const auto& lamp : lamps) {
+    const double w = o.beam == icanc::Beam::kHigh ? lamp.high_beam_w : lamp.low_beam_w;
+    if (!(w > 0.0)) continue;
+    const double binary_wh = icanc::wattHours(w, binary.on_s / 3600.0);
+    const double seg_wh = icanc::integrateSegmentEnergy(samples, samples.back().t_s,
+                                                        std::vector<double>(segments, w / segments)).wh;
+    std::printf("  %-20s %6g %12.5f %14.5f %9.1f%%\n", lamp.label.c_str(), w, binary_wh, seg_wh,
+                binary_wh > 0.0 ? 100.0 * seg_wh / binary_wh : 0.0);
+  }
 }
 
 int fromBag(const Options& o, const icanc::LampCatalogue& lamps) {
@@ -194,6 +254,7 @@ int fromBag(const Options& o, const icanc::LampCatalogue& lamps) {
     std::fclose(f);
     std::printf("\nwrote %s\n", o.csv_path.c_str());
   }
+  segmentedFromBag(o, bag, lamps, t);
   return 0;
 }
 
@@ -211,6 +272,9 @@ int main(int argc, char** argv) {
       else if (a == "--csv") o.csv_path = v;
       else if (a == "--bag") o.bag_path = v;
       else if (a == "--topic") o.topic = v;
+      else if (a == "--lamp-topic") o.lamp_topic = v;
+      else if (a == "--segments") o.segments = toCount(a, v, 32);
+      else if (a == "--segments-lit") o.segments_lit = toCount(a, v, 32);
       else if (a == "--drive-min") o.drive.drive_s = 60.0 * toDouble(a, v);
       else if (a == "--objects") o.drive.dangerous_objects = int(toDouble(a, v));
       else if (a == "--tau") o.drive.tau_s = toDouble(a, v);

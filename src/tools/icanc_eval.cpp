@@ -5,6 +5,9 @@
 // Options: BAG [--points /points] [--truth /ground_truth] [--ns /icanc] [--rate R] [--fov DEG]
 //          [--min-points N] [--match M] [--range M] [--json FILE] [--rows FILE.csv] [--name NAME]
 // --rows writes every scored object-frame (outcome, truth, the detection that decided it) as CSV.
+// --segments N (0: off) also replays the frames' dangerous boxes through an N-segment lamp over
+// +-(--segment-span 120)/2 deg beside the binary lamp and prints its coverage and energy
+// (icanc/segment_coverage.hpp; docs/segmented_lamp.md).
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -13,6 +16,7 @@
 #include <ros/ros.h>
 
 #include "icanc/core/evaluation/evaluation.hpp"
+#include "icanc/core/evaluation/segment_coverage.hpp"
 #include "icanc/ros/bag_replay.hpp"
 #include "tool_help.hpp"
 
@@ -20,7 +24,7 @@ namespace {
 const char* const kUsage =
     "usage: icanc_eval BAG [--points /points] [--truth /ground_truth] [--ns /icanc] [--rate R]\n"
     "                  [--fov DEG] [--min-points N] [--match M] [--range M] [--json FILE]\n"
-    "                  [--rows FILE.csv] [--name NAME]\n"
+    "                  [--rows FILE.csv] [--name NAME] [--segments N] [--segment-span DEG]\n"
     "Replays BAG through a running icanc graph (launch/eval.launch starts both).\n";
 }  // namespace
 
@@ -36,6 +40,8 @@ int main(int argc, char** argv) {
   icanc::EvalParams params;
   replay.bag = args[1];
   std::string json, rows_csv, name = replay.bag.substr(replay.bag.rfind('/') + 1);
+  int segments = 0;
+  double segment_span_deg = 120.0;
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".bag") == 0) name.resize(name.size() - 4);
   for (std::size_t i = 2; i + 1 < args.size(); i += 2) {
     const std::string& k = args[i];
@@ -51,6 +57,8 @@ int main(int argc, char** argv) {
     else if (k == "--json") json = v;
     else if (k == "--rows") rows_csv = v;
     else if (k == "--name") name = v;
+    else if (k == "--segments") segments = std::atoi(v.c_str());
+    else if (k == "--segment-span") segment_span_deg = std::atof(v.c_str());
     else {
       std::fprintf(stderr, "icanc_eval: unknown option %s\n", k.c_str());
       return icanc::tools::printUsage(kUsage, false);
@@ -74,6 +82,19 @@ int main(int argc, char** argv) {
     if (!rows_csv.empty()) {
       std::ofstream(rows_csv) << icanc::toCsv(rows);
       std::printf("wrote %s\n", rows_csv.c_str());
+    }
+    if (segments > 0) {
+      const icanc::SegmentLampParams lamp = icanc::evenLamp(segments, segment_span_deg, 25.0);
+      const std::string why = icanc::validate(lamp);
+      if (!why.empty()) throw std::invalid_argument("--segments/--segment-span: " + why);
+      icanc::LightControllerParams light;
+      light.tau_s = params.lamp_tau_s;
+      light.recheck_below_s = params.lamp_recheck_below_s;
+      const icanc::SegmentCoverage c = icanc::segmentCoverage(frames, light, lamp, params.min_points);
+      std::printf("segmented lamp %s: %d segments over +-%.0f deg: coverage %zu / %zu = %.4f of the "
+                  "binary lamp's dangerous object-frames; energy %.6f / %.6f Wh = %.4f of the binary\n",
+                  name.c_str(), segments, 0.5 * segment_span_deg, c.covered_object_frames,
+                  c.binary_tp_object_frames, c.coverage, c.segmented_wh, c.binary_wh, c.energy_ratio);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icanc_eval: %s\n", e.what());

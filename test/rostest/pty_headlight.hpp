@@ -38,6 +38,8 @@ struct PtyHeadlightOptions {
   // false: a stock subscribe-only sketch (no lamp_state publisher): it sends nothing but ros_lib's
   // time request every 2.5 s.
   bool report_state = true;
+  // Non-empty: the board also subscribes this std_msgs/UInt8MultiArray (segment levels, issue 23).
+  std::string levels_topic;
 };
 
 class PtyHeadlight {
@@ -112,6 +114,14 @@ class PtyHeadlight {
     std::lock_guard<std::mutex> lock(mutex_);
     return device_ && device_->connected();
   }
+  std::vector<std::vector<std::uint8_t>> levels() {  // every levels frame handled
+    std::lock_guard<std::mutex> lock(mutex_);
+    return levels_;
+  }
+  std::uint8_t segmentDuty(std::uint8_t i) {  // the sketch's PWM duty of segment i now
+    std::lock_guard<std::mutex> lock(mutex_);
+    return segments_.duty(i, logic_, millis());
+  }
   std::uint16_t stateId() {
     std::lock_guard<std::mutex> lock(mutex_);
     return state_id_;
@@ -137,6 +147,15 @@ class PtyHeadlight {
         ++bad_commands_;
       }
     });
+    segments_ = icanc_fw::SegmentLevels(options.command_timeout_ms);
+    if (!options.levels_topic.empty())
+      device_->subscribe(options.levels_topic, rosserial::kUInt8ArrayType, rosserial::kUInt8ArrayMd5,
+                         [this](const std::uint8_t* d, std::size_t n) {
+                           std::vector<std::uint8_t> levels;
+                           if (!rosserial::deserializeUInt8Array(d, n, levels)) return;
+                           segments_.onLevels(levels.data(), static_cast<std::uint32_t>(levels.size()), millis());
+                           levels_.push_back(levels);
+                         });
     last_state_ms_ = millis();
   }
 
@@ -182,6 +201,7 @@ class PtyHeadlight {
       device_->spinOnce(now, tx);
       const bool was_on = logic_.lampOn();
       const bool on = logic_.update(device_->connected(), now);  // unplugged, it only times out
+      if (!device_->connected()) segments_.onDisconnect();
       if (state_id_ != 0 && (on != was_on || now - last_state_ms_ >= options_.state_period_ms)) {
         device_->publish(state_id_, {static_cast<std::uint8_t>(on)}, tx);
         last_state_ms_ = now;
@@ -200,6 +220,8 @@ class PtyHeadlight {
   Options options_;
   std::unique_ptr<rosserial::RosserialDevice> device_{new rosserial::RosserialDevice()};
   icanc_fw::HeadlightLogic logic_;
+  icanc_fw::SegmentLevels segments_;
+  std::vector<std::vector<std::uint8_t>> levels_;
   std::uint16_t state_id_ = 0;
   std::uint32_t last_state_ms_ = 0;
   double mute_until_ = 0.0;

@@ -25,13 +25,7 @@ TEST(Approach, LampOnAtSpeedTimesReactionTimeAndOffTauAfterDangerEnds) {
   // The moment the closest point reaches speed * reaction_time.
   const double t_cross = walker.start_s + (walker.position.x() - radius - speed * reaction) / speed;
 
-  const ros::Time t0 = ros::Time::now();
-  ros::Rate rate(g.scenario().rate_hz);
-  for (std::size_t k = 0; k < g.scenario().frames() && ros::ok(); ++k) {
-    const double t = k / g.scenario().rate_hz;
-    g.publishFrame(t, t0 + ros::Duration(t));
-    rate.sleep();
-  }
+  const ros::Time t0 = g.playScenario();
   ros::WallDuration(0.5).sleep();
 
   Recorder& rec = g.recorder();

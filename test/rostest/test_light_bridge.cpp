@@ -18,6 +18,7 @@
 #include <rosgraph_msgs/Log.h>
 #include <std_msgs/Bool.h>
 
+#include "icanc/LampCommand.h"
 #include "icanc/LampState.h"
 #include "icanc/core/bridge/rosserial_session.hpp"
 #include "pty_headlight.hpp"
@@ -490,6 +491,41 @@ TEST_F(LightBridge, StockSubscribeOnlyBoardStaysSynced) {
 // Only in light_bridge_launch.test: launch/icanc.launch with bridge_port set loads the bridge in
 // the graph's manager, and the LightController's lamp_cmd (fail-safe ON: no clouds) reaches the
 // board at the controller's rate.
+// light_bridge_levels.test: the bridge with device_levels_topic, a board with a lamp_levels
+// subscriber (issue 23). Levels reach the board with the commands; 255 for every segment before any
+// lamp_command and once it stops; the board's PWM duties follow.
+TEST_F(LightBridge, SegmentLevelsReachTheBoard) {
+  PtyHeadlightOptions options;
+  options.levels_topic = "lamp_levels";
+  ASSERT_TRUE(board().plug(options));
+  ASSERT_TRUE(synced(15.0)) << "no negotiation with the emulated board";
+  EXPECT_TRUE(waitFor([&] { auto l = board().levels(); return !l.empty() && l.back() == Bytes{255}; }, 2.0))
+      << "no lamp_command yet: every segment 255";
+  ASSERT_TRUE(boardFollows(false));
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<LampCommand>("/icanc/lamp_command", 10);
+  ASSERT_TRUE(waitFor([&] { return pub.getNumSubscribers() > 0; }, 5.0));
+  LampCommand command;
+  command.levels = {0.0f, 0.0f, 0.0f, 0.6f, 0.6f, 0.0f, 0.0f, 0.0f};
+  command.reason = LampCommand::_reason_type(1);
+  const Bytes expected{0, 0, 0, 153, 153, 0, 0, 0};
+  for (int i = 0; i < 10; ++i) {  // as the LightController: 10 Hz
+    command.header.stamp = ros::Time::now();
+    pub.publish(command);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  auto levels = board().levels();
+  ASSERT_FALSE(levels.empty());
+  EXPECT_EQ(levels.back(), expected);
+  EXPECT_EQ(board().segmentDuty(3), 153);
+  EXPECT_EQ(board().segmentDuty(0), 0);
+  // lamp_command stops (lamp_cmd goes on): after cmd_stale_timeout_s every segment is 255 again.
+  EXPECT_TRUE(waitFor([&] { auto l = board().levels(); return l.back() == Bytes(8, 255); }, 2.0))
+      << "stale levels must fail safe to 255";
+  EXPECT_EQ(board().segmentDuty(0), 255);
+  EXPECT_FALSE(board().lampOn()) << "the binary lamp still follows lamp_cmd";
+}
+
 TEST_F(LightBridge, LaunchFileServesTheLightController) {
   ASSERT_TRUE(board().plug());
   ASSERT_TRUE(synced(15.0)) << "no bridge in the launch file's manager?";

@@ -9,9 +9,11 @@
 
 #include <visualization_msgs/MarkerArray.h>
 
+#include "icanc/LampCommand.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/danger/danger.hpp"
+#include "icanc/core/light/lamp_segments.hpp"
 
 namespace icanc {
 
@@ -27,6 +29,7 @@ constexpr const char* kLabelsNs = "labels";
 constexpr const char* kVelocityNs = "velocity";
 constexpr const char* kSectionsNs = "sections";
 constexpr const char* kLampNs = "lamp";
+constexpr const char* kSegmentsNs = "lamp_segments";
 
 // Boxes (CUBE), labels (TEXT_VIEW_FACING "#id  s.s m/s") and velocity arrows (ARROW) for every
 // obstacle, in the array's frame and stamp, plus the two section boundaries (LINE_STRIP at
@@ -38,5 +41,14 @@ visualization_msgs::MarkerArray dangerMarkers(const ObstacleArray& array, const 
 // TEXT_VIEW_FACING (id 1) "lamp ON: danger 2.4 s".
 visualization_msgs::MarkerArray lampMarkers(const LightState& state, const std::string& frame,
                                             const MarkerStyle& style = MarkerStyle());
+
+// The segmented lamp seen from above in `frame`: a flat wedge (TRIANGLE_LIST, id = segment index)
+// per segment from the lamp out to `range_m` over its azimuth range, yellow with the opacity of
+// its level while lit, faint grey while off.
+visualization_msgs::MarkerArray segmentMarkers(const LampCommand& command,
+                                               const std::vector<LampSegment>& segments,
+                                               const Eigen::Vector3f& lamp_position,
+                                               const std::string& frame, double range_m = 20.0,
+                                               const MarkerStyle& style = MarkerStyle());
 
 }  // namespace icanc

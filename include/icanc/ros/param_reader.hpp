@@ -14,6 +14,7 @@
 
 #include "icanc/core/danger/danger.hpp"
 #include "icanc/core/camera/illumination.hpp"
+#include "icanc/core/light/lamp_segments.hpp"
 #include "icanc/core/light/light_controller.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
 
@@ -30,6 +31,8 @@ class ParamReader {
   void read(const std::string& key, std::string& value);
   void read(const std::string& key, float& value);
   void read(const std::string& key, Eigen::Vector3f& value);  // a list of three numbers
+  // A list of dictionaries of numbers (light_controller/segments).
+  void read(const std::string& key, std::vector<LampSegment>& value);
   // The visitParams reader interface (icanc/core/common/param_keys.hpp).
   template <class T>
   void operator()(const std::string& key, T& value) {
@@ -60,6 +63,7 @@ class ParamReader {
 void readParams(ParamReader& reader, ObstacleDetectorParams& params);
 void readParams(ParamReader& reader, DangerParams& params);
 void readParams(ParamReader& reader, LightControllerParams& params);
+void readParams(ParamReader& reader, SegmentLampParams& params);
 void readParams(ParamReader& reader, IlluminationParams& params);
 
 }  // namespace icanc

@@ -118,6 +118,28 @@ bool deserializeBool(const std::uint8_t* data, std::size_t size, bool& value) {
   return true;
 }
 
+void serializeUInt8Array(const std::vector<std::uint8_t>& data, std::vector<std::uint8_t>& out) {
+  Writer w(out);
+  w.u32(0);  // layout.dim: none
+  w.u32(0);  // layout.data_offset
+  w.str(std::string(data.begin(), data.end()));
+}
+
+bool deserializeUInt8Array(const std::uint8_t* payload, std::size_t size, std::vector<std::uint8_t>& data) {
+  Reader r(payload, size);
+  std::uint32_t dims = 0, offset = 0;
+  if (!r.u32(dims) || dims > size) return false;
+  for (std::uint32_t i = 0; i < dims; ++i) {
+    std::string label;
+    std::uint32_t dim_size = 0, stride = 0;
+    if (!(r.str(label) && r.u32(dim_size) && r.u32(stride))) return false;
+  }
+  std::string bytes;
+  if (!(r.u32(offset) && r.str(bytes)) || r.remaining() != 0) return false;
+  data.assign(bytes.begin(), bytes.end());
+  return true;
+}
+
 // --- Framing ----------------------------------------------------------------------------------
 
 void appendFrame(std::uint16_t topic, const std::uint8_t* payload, std::size_t size,

@@ -24,6 +24,10 @@ std::string validate(const LightBridgeParams& p) {
     why << "frame_timeout_s must be in (0, link_timeout_s) (got " << p.frame_timeout_s << ")";
   else if (!(p.max_payload_bytes >= 64 && p.max_payload_bytes <= 65535))
     why << "max_payload_bytes must be in [64, 65535] (got " << p.max_payload_bytes << ")";
+  else if (!p.device_levels_topic.empty() &&
+           (p.device_levels_topic == p.device_cmd_topic || p.device_levels_topic == p.device_state_topic))
+    why << "device_levels_topic must differ from device_cmd_topic and device_state_topic (got '"
+        << p.device_levels_topic << "')";
   return why.str();
 }
 
@@ -126,13 +130,13 @@ void LightBridgeSession::onClosed(double now, SessionOutput& out) {
   loseLink("serial port closed", LinkState::kClosed, out);
   parser_.reset();
   announced_.clear();
-  cmd_id_ = state_id_ = 0;
+  cmd_id_ = state_id_ = levels_id_ = 0;
 }
 
 void LightBridgeSession::requestTopics(double now, SessionOutput& out) {
   if (state_ != LinkState::kSynced) {  // a synced device re-announces the same ids
     announced_.clear();
-    cmd_id_ = state_id_ = 0;
+    cmd_id_ = state_id_ = levels_id_ = 0;
   }
   send(rosserial::kIdPublisher, {}, out);
   ++counters_.topic_requests;
@@ -154,6 +158,26 @@ void LightBridgeSession::sendCommand(double now, SessionOutput& out) {
   ++counters_.commands_sent;
   out.command_sent = true;
   last_heartbeat_s_ = now;
+  sendLevels(now, out);
+}
+
+void LightBridgeSession::sendLevels(double now, SessionOutput& out) {
+  if (levels_id_ == 0) return;
+  const bool stale = commandStale(now) || levels_.empty() || !(now - last_levels_s_ < params_.cmd_stale_timeout_s);
+  std::vector<std::uint8_t> payload;
+  rosserial::serializeUInt8Array(stale ? std::vector<std::uint8_t>(std::max<std::size_t>(1, levels_.size()), 255)
+                                       : levels_, payload);
+  send(levels_id_, payload, out);
+  ++counters_.levels_sent;
+}
+
+void LightBridgeSession::onLevels(const std::vector<std::uint8_t>& levels, double now, SessionOutput& out) {
+  // Changed, or back after the fail-safe's 255s: sent at once; else with the next heartbeat.
+  const bool was_stale = levels_.empty() || !(now - last_levels_s_ < params_.cmd_stale_timeout_s);
+  const bool changed = was_stale || levels != levels_;
+  levels_ = levels;
+  last_levels_s_ = now;
+  if (changed && state_ == LinkState::kSynced) sendLevels(now, out);
 }
 
 void LightBridgeSession::onCommand(bool on, double now, SessionOutput& out) {
@@ -329,6 +353,20 @@ void LightBridgeSession::handleTopicInfo(const Frame& f, double now, SessionOutp
       event(out, SessionEvent::kLinkUp, "device subscriber " + describe(t) + " negotiated");
       sendCommand(now, out);  // the device leaves its power-up fail-safe as soon as it may
     }
+    return;
+  }
+  if (f.topic == rosserial::kIdSubscriber && !params_.device_levels_topic.empty() &&
+      name == stripSlash(params_.device_levels_topic)) {
+    if (t.message_type != rosserial::kUInt8ArrayType || t.md5sum != rosserial::kUInt8ArrayMd5) {
+      ++counters_.type_mismatches;
+      levels_id_ = 0;
+      error(out, SessionError::kLevelsTypeMismatch,
+            "the device subscribes " + describe(t) + " but the bridge sends segment levels as " +
+                rosserial::kUInt8ArrayType + ": no levels sent (the binary command goes on)");
+      return;
+    }
+    levels_id_ = t.topic_id;
+    if (state_ == LinkState::kSynced) sendLevels(now, out);
     return;
   }
   if (f.topic == rosserial::kIdPublisher && !params_.device_state_topic.empty() &&

@@ -35,6 +35,25 @@ class YamlReader {
       fail(key, e.what());
     }
   }
+  void operator()(const std::string& key, std::vector<LampSegment>& value) {
+    const YAML::Node node = find(key);
+    if (!node) return;
+    if (!node.IsSequence()) fail(key, "must be a list of segments");
+    value.assign(node.size(), LampSegment());
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string entry = key + "[" + std::to_string(i) + "]";
+      if (!node[i].IsMap()) fail(entry, "must be a dictionary of numbers");
+      for (const auto& kv : node[i]) {
+        std::string why;
+        try {
+          why = setSegmentKey(value[i], kv.first.as<std::string>(), kv.second.as<double>());
+        } catch (const YAML::Exception& e) {
+          why = e.what();
+        }
+        if (!why.empty()) fail(entry, why);
+      }
+    }
+  }
 
  private:
   YAML::Node find(const std::string& key) const {
@@ -77,6 +96,7 @@ Profile loadProfile(const std::string& path) {
   readSection(root, path, "obstacle_detector", p.detector);
   readSection(root, path, "danger_detector", p.danger);
   readSection(root, path, "light_controller", p.light);
+  readSection(root, path, "light_controller", p.lamp);
   p.corridor.half_width_m = p.danger.half_width_m;
   p.corridor.horizon_s = p.danger.reaction_time_s;
   readSection(root, path, "ground_truth", p.corridor);

@@ -160,20 +160,26 @@ std::vector<EnergyRow> energyTable(const LampCatalogue& catalogue,
   return rows;
 }
 
-OnTime integrateOnTime(const std::vector<LampSample>& samples, double end_s) {
-  OnTime out;
-  if (samples.empty()) return out;
-  for (std::size_t k = 0; k < samples.size(); ++k) {
-    if (!std::isfinite(samples[k].t_s))
+void checkSampleTimes(const std::vector<double>& times, double end_s) {
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    if (!std::isfinite(times[k]))
       throw std::invalid_argument("lamp sample " + std::to_string(k) + ": time is not finite");
-    if (k > 0 && samples[k].t_s < samples[k - 1].t_s) {
+    if (k > 0 && times[k] < times[k - 1]) {
       std::ostringstream why;
-      why << "lamp sample " << k << ": time goes backwards (" << samples[k - 1].t_s << " s -> "
-          << samples[k].t_s << " s)";
+      why << "lamp sample " << k << ": time goes backwards (" << times[k - 1] << " s -> "
+          << times[k] << " s)";
       throw std::invalid_argument(why.str());
     }
   }
   if (!std::isfinite(end_s)) throw std::invalid_argument("lamp samples: end time is not finite");
+}
+
+OnTime integrateOnTime(const std::vector<LampSample>& samples, double end_s) {
+  OnTime out;
+  if (samples.empty()) return out;
+  std::vector<double> times;
+  for (const LampSample& s : samples) times.push_back(s.t_s);
+  checkSampleTimes(times, end_s);
   const double end = std::max(end_s, samples.back().t_s);
   bool was_on = false;
   for (std::size_t k = 0; k < samples.size(); ++k) {

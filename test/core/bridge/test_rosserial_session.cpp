@@ -484,6 +484,85 @@ TEST(LightBridgeSession, CommandTypeChangingWhileSyncedDropsTheLink) {
   EXPECT_TRUE(b.host.synced());
 }
 
+// Issue 23: the segmented lamp's levels on an optional std_msgs/UInt8MultiArray subscriber.
+struct LevelsBench : Bench {
+  explicit LevelsBench(const std::string& type = rosserial::kUInt8ArrayType,
+                       const std::string& md5 = rosserial::kUInt8ArrayMd5) {
+    LightBridgeParams p;
+    p.device_levels_topic = "lamp_levels";
+    host = LightBridgeSession(p);
+    device.subscribe("lamp_levels", type, md5, [this](const std::uint8_t* d, std::size_t n) {
+      Bytes levels;
+      if (rosserial::deserializeUInt8Array(d, n, levels)) received.push_back(levels);
+    });
+  }
+  void levels(const Bytes& l) {
+    SessionOutput out;
+    host.onLevels(l, now, out);
+    collect(out);
+  }
+  std::vector<Bytes> received;
+};
+
+TEST(LightBridgeSession, SegmentLevelsGoWithTheCommandAndFailSafeAt255) {
+  LevelsBench b;
+  b.open();
+  b.run(0.05);
+  ASSERT_EQ(b.host.state(), LinkState::kSynced) << b.allText(SessionEvent::kError);
+  ASSERT_NE(b.host.levelsTopicId(), 0);
+  ASSERT_FALSE(b.received.empty());
+  EXPECT_EQ(b.received.back(), Bytes{255});  // none from ROS yet: every segment on
+  const Bytes lit{0, 0, 0, 153, 153, 0, 0, 0};
+  b.command(false);
+  std::uint64_t sent = b.host.counters().levels_sent;
+  b.levels(lit);
+  EXPECT_EQ(b.host.counters().levels_sent, sent + 1) << "changed levels are sent at once";
+  b.levels(lit);  // unchanged: they wait for the heartbeat
+  EXPECT_EQ(b.host.counters().levels_sent, sent + 1);
+  b.step();
+  EXPECT_EQ(b.received.back(), lit);
+  const std::size_t before = b.received.size();
+  b.run(0.55);
+  EXPECT_GE(b.received.size() - before, 4u);  // with every heartbeat
+  EXPECT_EQ(b.received.back(), lit);
+  b.command(false);  // lamp_cmd goes on, the levels stop: stale after 1 s
+  b.run(0.5);
+  b.command(false);
+  b.run(0.2);
+  EXPECT_EQ(b.received.back(), Bytes(8, 255));
+  b.levels(lit);
+  b.step();
+  EXPECT_EQ(b.received.back(), lit);
+  b.run(1.2);  // lamp_cmd stale as well: the binary command ON, every segment 255
+  EXPECT_TRUE(b.device_values.back());
+  EXPECT_EQ(b.received.back(), Bytes(8, 255));
+  EXPECT_GT(b.host.counters().levels_sent, 10u);
+}
+
+TEST(LightBridgeSession, SegmentLevelsOfAnotherTypeAreRefusedTheCommandGoesOn) {
+  LevelsBench b(rosserial::kBoolType, rosserial::kBoolMd5);
+  b.open();
+  b.run(0.05);
+  EXPECT_EQ(b.host.state(), LinkState::kSynced);
+  EXPECT_EQ(b.host.levelsTopicId(), 0);
+  EXPECT_NE(b.allText(SessionEvent::kError).find("std_msgs/UInt8MultiArray"), std::string::npos);
+  b.command(false);
+  b.levels(Bytes{0, 255});
+  b.run(0.2);
+  EXPECT_FALSE(b.lamp_on);
+  EXPECT_TRUE(b.received.empty());
+  LightBridgeParams p;
+  p.device_levels_topic = p.device_cmd_topic;
+  EXPECT_NE(validate(p).find("device_levels_topic"), std::string::npos);
+  // The payload: empty layout, then the bytes; a truncated one is refused.
+  Bytes payload, back;
+  rosserial::serializeUInt8Array(Bytes{1, 2, 3}, payload);
+  EXPECT_EQ(payload, (Bytes{0, 0, 0, 0, 0, 0, 0, 0, 3, 0, 0, 0, 1, 2, 3}));
+  ASSERT_TRUE(rosserial::deserializeUInt8Array(payload.data(), payload.size(), back));
+  EXPECT_EQ(back, (Bytes{1, 2, 3}));
+  EXPECT_FALSE(rosserial::deserializeUInt8Array(payload.data(), payload.size() - 1, back));
+}
+
 TEST(ErrorThrottle, EachKindHasItsOwnPeriod) {
   ErrorThrottle t(10.0);
   std::uint64_t held = 99;

@@ -55,6 +55,11 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_FLOAT_EQ(carla.detector.ground.expected_height_m, 0.0f);
   EXPECT_FLOAT_EQ(kitti.detector.ground.expected_height_m, -1.73f);
   for (const Profile* p : {&zebra, &carla, &kitti}) {
+    // The paper's single lamp (issue 23: segments [] = one segment, every direction).
+    EXPECT_TRUE(p->lamp.segments.empty());
+    EXPECT_EQ(effectiveSegments(p->lamp).size(), 1u);
+    EXPECT_DOUBLE_EQ(p->lamp.segment_margin_deg, 2.0);
+    EXPECT_DOUBLE_EQ(p->lamp.low_beam_below_m, 15.0);
     EXPECT_FLOAT_EQ(p->detector.ground.max_height_error_m, 0.5f);
     EXPECT_FLOAT_EQ(p->detector.footprint_cell_m, 1.0f);
     EXPECT_DOUBLE_EQ(p->detector.tracker.accel_std, 3.0);
@@ -62,39 +67,39 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   }
 }
 
-TEST(Profiles, BadValueNamesFileAndKey) {
-  const std::string path = ::testing::TempDir() + "icanc_bad_profile_" + std::to_string(::getpid()) + ".yaml";
-  {
-    std::ofstream out(path);
-    out << "danger_detector:\n  half_width_m: -1.0\n";
-  }
+// Writes `yaml` to `path` and expects loadProfile to refuse it with a message holding `key`.
+void expectRefused(const std::string& path, const std::string& yaml, const std::string& key,
+                   const char* what) {
+  std::ofstream(path) << yaml;
   try {
     loadProfile(path);
-    FAIL() << "a negative half width was accepted";
+    ADD_FAILURE() << what << " was accepted";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("half_width_m"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
-  {
-    std::ofstream out(path);
-    out << "obstacle_detector:\n  prep:\n    roi_min: [1, 2]\n";
-  }
-  try {
-    loadProfile(path);
-    FAIL() << "a two-element roi_min was accepted";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("prep/roi_min"), std::string::npos) << e.what();
-  }
-  {
-    std::ofstream out(path);
-    out << "obstacle_detector:\n  tracker:\n    anchor: middle\n";
-  }
-  try {
-    loadProfile(path);
-    FAIL() << "an unknown tracker anchor was accepted";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("tracker.anchor"), std::string::npos) << e.what();
-  }
+}
+
+TEST(Profiles, BadValueNamesFileAndKey) {
+  const std::string path = ::testing::TempDir() + "icanc_bad_profile_" + std::to_string(::getpid()) + ".yaml";
+  expectRefused(path, "danger_detector:\n  half_width_m: -1.0\n", "half_width_m", "a negative half width");
+  expectRefused(path, "obstacle_detector:\n  prep:\n    roi_min: [1, 2]\n", "prep/roi_min",
+                "a two-element roi_min");
+  expectRefused(path, "obstacle_detector:\n  tracker:\n    anchor: middle\n", "tracker.anchor",
+                "an unknown tracker anchor");
+  expectRefused(path,
+                "light_controller:\n  segments:\n    - {azimuth_min_deg: -10, azimuth_max_deg: 10, watts: 3}\n"
+                "    - {azimuth_min_deg: 10, azimuth_max_deg: 30, wats: 3}\n",
+                "segments[1]: unknown key 'wats'", "a misspelt segment key");
+  expectRefused(path, "light_controller:\n  segments:\n    - {azimuth_min_deg: 10, azimuth_max_deg: -10, watts: 3}\n",
+                "segments[0].azimuth_min_deg", "a segment with min > max");
+  std::ofstream(path) << "light_controller:\n  segments:\n"
+                         "    - {azimuth_min_deg: -90, azimuth_max_deg: 0, watts: 3, low_watts: 2}\n"
+                         "    - {azimuth_min_deg: 0, azimuth_max_deg: 90, watts: 3}\n";
+  const Profile two = loadProfile(path);
+  ASSERT_EQ(two.lamp.segments.size(), 2u);
+  EXPECT_DOUBLE_EQ(two.lamp.segments[0].low_watts, 2.0);
+  EXPECT_DOUBLE_EQ(two.lamp.segments[1].azimuth_max_deg, 90.0);
   std::remove(path.c_str());
 }
 

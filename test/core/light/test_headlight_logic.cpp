@@ -67,5 +67,38 @@ TEST(HeadlightLogic, ReasonTextsAreDistinct) {
   EXPECT_STRNE(reasonText(kDisconnected), reasonText(kCommandTimeout));
 }
 
+TEST(SegmentLevels, FullOnUnlessCommandedWithFreshLevels) {
+  HeadlightLogic l(500);
+  SegmentLevels seg(500);
+  const uint8_t levels[3] = {0, 153, 255};
+  l.update(true, 0);
+  EXPECT_EQ(seg.duty(0, l, 0), 255);  // power-up: no command yet
+  seg.onLevels(levels, 3, 10);
+  EXPECT_EQ(seg.duty(0, l, 10), 255);  // levels, but no Bool command yet
+  l.onCommand(false, 20);
+  l.update(true, 20);
+  EXPECT_EQ(seg.duty(0, l, 20), 0);
+  EXPECT_EQ(seg.duty(1, l, 20), 153);
+  EXPECT_EQ(seg.duty(2, l, 20), 255);
+  EXPECT_EQ(seg.duty(3, l, 20), 255);  // beyond the levels received
+  l.onCommand(false, 400);
+  l.update(true, 510);
+  EXPECT_EQ(seg.duty(0, l, 510), 255);  // the command is fresh, the levels are 500 ms old
+  seg.onLevels(levels, 3, 520);
+  l.update(true, 920);
+  EXPECT_EQ(seg.duty(0, l, 920), 255);  // command timeout
+  l.onCommand(false, 930);
+  l.update(false, 940);
+  EXPECT_EQ(seg.duty(0, l, 940), 255);  // disconnected
+  seg.onDisconnect();
+  l.onCommand(false, 950);
+  l.update(true, 950);
+  EXPECT_EQ(seg.duty(0, l, 950), 255);  // reconnected: levels forgotten until new ones come
+  const uint8_t many[10] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  seg.onLevels(many, 10, 960);
+  EXPECT_EQ(seg.duty(7, l, 960), 8);
+  EXPECT_EQ(seg.duty(8, l, 960), 255);  // at most kMaxSegments pins
+}
+
 }  // namespace
 }  // namespace icanc_fw

@@ -43,6 +43,8 @@ constexpr std::uint16_t kFirstUserTopic = 100;
 // Message types and md5sums (computed from the message definitions, as genmsg does).
 constexpr const char* kBoolType = "std_msgs/Bool";
 constexpr const char* kBoolMd5 = "8b94c1b53db61fb6aed406028ad6332a";
+constexpr const char* kUInt8ArrayType = "std_msgs/UInt8MultiArray";  // segment levels (issue 23)
+constexpr const char* kUInt8ArrayMd5 = "82373f1612381bb6ee473b5cd6f5d89c";
 constexpr const char* kTimeType = "std_msgs/Time";
 constexpr const char* kTimeMd5 = "cd7166c74c552c311fbcc2fe5a7bc289";
 constexpr const char* kTopicInfoType = "rosserial_msgs/TopicInfo";
@@ -109,6 +111,10 @@ bool deserialize(const std::uint8_t* data, std::size_t size, Stamp& m);
 
 void serializeBool(bool value, std::vector<std::uint8_t>& out);  // std_msgs/Bool
 bool deserializeBool(const std::uint8_t* data, std::size_t size, bool& value);  // exactly 1 byte
+// std_msgs/UInt8MultiArray with an empty layout (no dims, offset 0) and `data`; deserializing
+// skips any layout and fails on a truncated payload or bytes left over.
+void serializeUInt8Array(const std::vector<std::uint8_t>& data, std::vector<std::uint8_t>& out);
+bool deserializeUInt8Array(const std::uint8_t* payload, std::size_t size, std::vector<std::uint8_t>& data);
 
 // --- Framing ------------------------------------------------------------------------------
 

@@ -19,6 +19,12 @@
 //
 // Fail-safe: when no lamp command has come from ROS for cmd_stale_timeout_s (or none yet), the
 // heartbeat commands the lamp ON.
+//
+// Segmented lamp (issue 23, optional): when device_levels_topic is set and the device subscribes
+// it as std_msgs/UInt8MultiArray, the segment levels (0..255 per segment, onLevels) go with every
+// lamp command (changes and heartbeats) and at once when they change; when the lamp command or
+// the levels are stale (cmd_stale_timeout_s, or none yet) every segment is sent at 255. A device
+// with another type there is an error; the binary command goes on.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +39,7 @@ namespace icanc {
 struct LightBridgeParams {
   std::string device_cmd_topic = "lamp_cmd";      // the device's std_msgs/Bool subscriber
   std::string device_state_topic = "lamp_state";  // the device's std_msgs/Bool publisher ("" = none)
+  std::string device_levels_topic;  // the device's std_msgs/UInt8MultiArray subscriber ("" = none)
   double heartbeat_hz = 10.0;          // command repeated at this rate even when unchanged [Hz]
   // No frame (of any kind, time requests included) from a synced device this long: link lost [s].
   // ros_lib requests the time every 2.5 s (SYNC_SECONDS * 500 ms) and may send nothing else;
@@ -60,6 +67,7 @@ enum class SessionError : std::uint8_t {
   kCommandTypeMismatch,
   kStateTypeMismatch,
   kNoCommandSubscriber,
+  kLevelsTypeMismatch,
   kCount
 };
 
@@ -115,6 +123,7 @@ struct SessionOutput {
 struct SessionCounters {
   std::uint64_t topic_requests = 0;
   std::uint64_t commands_sent = 0;       // lamp command frames (changes + heartbeats)
+  std::uint64_t levels_sent = 0;         // segment level frames
   std::uint64_t stale_commands = 0;      // heartbeats that commanded ON for want of lamp_cmd
   std::uint64_t time_replies = 0;
   std::uint64_t device_logs = 0;
@@ -140,6 +149,9 @@ class LightBridgeSession {
                SessionOutput& out);
   // A lamp command from ROS: sent at once when synced and remembered for the heartbeat.
   void onCommand(bool on, double now, SessionOutput& out);
+  // Segment levels from ROS (icanc/LampCommand as 0..255): sent at once when the device takes them.
+  void onLevels(const std::vector<std::uint8_t>& levels, double now, SessionOutput& out);
+  std::uint16_t levelsTopicId() const { return levels_id_; }
   // Advances the clock: heartbeat, link timeout, negotiation retries, stalled frames (a frame
   // found by the rescan of a stalled one may be a time request, answered with `ros_now`).
   void tick(double now, const rosserial::Stamp& ros_now, SessionOutput& out);
@@ -170,6 +182,7 @@ class LightBridgeSession {
   void handleTopicInfo(const rosserial::Frame& frame, double now, SessionOutput& out);
   void requestTopics(double now, SessionOutput& out);
   void sendCommand(double now, SessionOutput& out);
+  void sendLevels(double now, SessionOutput& out);
   void send(std::uint16_t topic, const std::vector<std::uint8_t>& payload, SessionOutput& out);
   static void event(SessionOutput& out, SessionEvent::Kind kind, std::string text);
   static void error(SessionOutput& out, SessionError kind, std::string text);
@@ -182,6 +195,9 @@ class LightBridgeSession {
   std::map<std::uint16_t, rosserial::TopicInfo> announced_;  // this negotiation's topics by id
   std::uint16_t cmd_id_ = 0;     // 0: not announced (0 is never a user topic)
   std::uint16_t state_id_ = 0;
+  std::uint16_t levels_id_ = 0;
+  std::vector<std::uint8_t> levels_;  // the last levels from ROS
+  double last_levels_s_ = 0.0;
   double last_request_s_ = 0.0;
   double last_rx_s_ = 0.0;
   double last_heartbeat_s_ = 0.0;

@@ -8,6 +8,7 @@
 #include "icanc/core/danger/danger.hpp"
 #include "icanc/core/evaluation/ground_truth.hpp"
 #include "icanc/core/camera/illumination.hpp"
+#include "icanc/core/light/lamp_segments.hpp"
 #include "icanc/core/light/light_controller.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
 
@@ -92,6 +93,15 @@ void visitParams(Reader& r, LightControllerParams& p) {
   r("watchdog_enabled", p.watchdog_enabled);
   r("illumination/enabled", p.illumination_enabled);
   r("illumination/stale_timeout_s", p.illumination_stale_timeout_s);
+}
+
+// The segmented lamp (issue 23), in the same light_controller section.
+template <class Reader>
+void visitParams(Reader& r, SegmentLampParams& p) {
+  r("segments", p.segments);
+  r("lamp_position_m", p.lamp_position_m);
+  r("segment_margin_deg", p.segment_margin_deg);
+  r("low_beam_below_m", p.low_beam_below_m);
 }
 
 // The IlluminationMonitor nodelet's section (illumination_monitor in config/*.yaml).

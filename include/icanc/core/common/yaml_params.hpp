@@ -7,6 +7,7 @@
 #include "icanc/core/evaluation/ground_truth.hpp"
 #include "icanc/core/camera/illumination.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
+#include "icanc/core/light/lamp_segments.hpp"
 #include "icanc/core/light/light_controller.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
 
@@ -16,6 +17,7 @@ struct Profile {
   ObstacleDetectorParams detector;
   DangerParams danger;
   LightControllerParams light;
+  SegmentLampParams lamp;  // light_controller section: the segmented lamp (issue 23)
   // The ground_truth section, with half_width_m and horizon_s from the danger section.
   CorridorParams corridor;
   IlluminationParams illumination;  // illumination_monitor section (camera)

@@ -117,4 +117,8 @@ struct OnTime {
 // the last sample is taken as the last sample's time). Throws std::invalid_argument when times decrease or are not finite.
 OnTime integrateOnTime(const std::vector<LampSample>& samples, double end_s);
 
+// Throws std::invalid_argument when the sample times decrease or are not finite, or end_s is not
+// finite (the checks of integrateOnTime, shared with the segment lamp's integration).
+void checkSampleTimes(const std::vector<double>& times, double end_s);
+
 }  // namespace icanc

@@ -1,0 +1,54 @@
+// The paper's light controller per lamp segment (issue 23): one icanc::LightController per
+// segment, each fed every input, with danger when a dangerous object's box (seen from the lamp,
+// widened by segment_margin_deg) meets its azimuth range. The paper's lamp is the one-segment case:
+// its segment covers every direction, so it sees exactly the inputs of a single LightController.
+//
+// Fail-safe: every segment hears every input, tick and illumination report, so a stale or blind
+// sensor lights all segments, and the daylight gate holds them all, exactly as the single lamp.
+// Level of a lit segment: 1 (high beam), or low_watts / watts (low beam) when the segment has a
+// low beam and every object that lit it since its timer was (re)started is nearer to the lamp
+// than low_beam_below_m. Fail-safe light is always 1.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "icanc/core/light/lamp_segments.hpp"
+#include "icanc/core/light/light_controller.hpp"
+
+namespace icanc {
+
+class SegmentedLightController {
+ public:
+  // The lamp parameters must validate (icanc::validate); invalid ones are the caller's fault path.
+  SegmentedLightController(const LightControllerParams& params, const SegmentLampParams& lamp);
+
+  // An input at `now`: the boxes (base_link, x-y) of its dangerous objects. unlocated_danger:
+  // danger whose boxes are not known (lights every segment, high beam).
+  void onInput(double now, const std::vector<Eigen::AlignedBox2d>& dangerous, bool sensor_blind,
+               bool unlocated_danger = false);
+  bool tick(double now);  // true when a level or the reason changed
+  bool onIllumination(double now, Illumination state);
+
+  std::vector<float> levels() const;  // 0..1 per segment, in profile order
+  bool anyOn() const;
+  // Shared fail-safe / daylight reasons first; else kDanger when a segment is lit, else kOff.
+  LightReason reason() const;
+
+  // Dangerous boxes of the inputs so far that met no segment (lit by none).
+  std::size_t unlitObjects() const { return unlit_objects_; }
+  const std::vector<LampSegment>& segments() const { return segments_; }
+  const SegmentLampParams& lamp() const { return lamp_; }
+  void setParams(const LightControllerParams& params);
+
+ private:
+  SegmentLampParams lamp_;
+  std::vector<LampSegment> segments_;
+  std::vector<LightController> timers_;
+  std::vector<bool> high_;  // per segment: an object that lit it needs the high beam
+  std::size_t unlit_objects_ = 0;
+};
+
+}  // namespace icanc

@@ -1,0 +1,90 @@
+// Pins the offline segmented-lamp measurement on scored frames: the one-segment lamp is the binary
+// lamp (coverage 1, same energy); eight segments light a quarter of the lamp for an object
+// straight ahead and still cover it; a truly dangerous object the lamp was not lit for (another
+// object's danger lit it) is not covered.
+#include <gtest/gtest.h>
+
+#include "icanc/core/evaluation/segment_coverage.hpp"
+
+namespace icanc {
+namespace {
+
+TruthObject truth(double x, double y, bool dangerous) {
+  TruthObject o;
+  o.id = 1;
+  o.center = Eigen::Vector2d(x, y);
+  o.size = Eigen::Vector2d(0.5, 0.5);
+  o.num_points = 50;
+  o.dangerous = dangerous;
+  return o;
+}
+
+DetectedObject detection(double x, double y, bool dangerous) {
+  DetectedObject d;
+  d.center = Eigen::Vector2d(x, y);
+  d.dangerous = dangerous;
+  d.has_aabb = true;
+  d.aabb_min = d.center - Eigen::Vector2d(0.25, 0.25);
+  d.aabb_max = d.center + Eigen::Vector2d(0.25, 0.25);
+  return d;
+}
+
+// 10 s at 10 Hz: a pedestrian straight ahead, dangerous (truth and detection) from 2 s to 5 s.
+std::vector<EvalFrame> ahead() {
+  std::vector<EvalFrame> frames;
+  for (int k = 0; k < 100; ++k) {
+    EvalFrame f;
+    f.t = 0.1 * k;
+    f.processed = true;
+    const bool danger = f.t >= 2.0 && f.t < 5.0;
+    f.truth.push_back(truth(8.0, 0.0, danger));
+    f.detections.push_back(detection(8.0, 0.0, danger));
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+LightControllerParams paper() {
+  LightControllerParams p;
+  p.tau_s = 3.0;
+  return p;
+}
+
+TEST(SegmentCoverage, OneSegmentIsTheBinaryLamp) {
+  const SegmentCoverage c = segmentCoverage(ahead(), paper(), SegmentLampParams(), 10);
+  EXPECT_EQ(c.segments, 1u);
+  EXPECT_EQ(c.binary_tp_object_frames, 30u);
+  EXPECT_EQ(c.covered_object_frames, 30u);
+  EXPECT_DOUBLE_EQ(c.coverage, 1.0);
+  // On from 2.0 s to 7.0 s (reset at 4.0 s, 1 s left): 5 s at 25 W.
+  EXPECT_NEAR(c.binary_wh, 25.0 * 5.0 / 3600.0, 1e-9);
+  EXPECT_NEAR(c.segmented_wh, c.binary_wh, 1e-12);
+  EXPECT_NEAR(c.energy_ratio, 1.0, 1e-12);
+}
+
+TEST(SegmentCoverage, EightSegmentsLightAQuarterAndCoverTheObject) {
+  const SegmentLampParams lamp = evenLamp(8, 120.0, 25.0);
+  ASSERT_EQ(validate(lamp), "");
+  EXPECT_DOUBLE_EQ(lamp.segments[3].azimuth_max_deg, 0.0);
+  const SegmentCoverage c = segmentCoverage(ahead(), paper(), lamp, 10);
+  EXPECT_EQ(c.covered_object_frames, 30u);
+  EXPECT_DOUBLE_EQ(c.coverage, 1.0);
+  EXPECT_NEAR(c.energy_ratio, 0.25, 1e-12);  // segments 3 and 4 of 8 (the object straddles 0)
+}
+
+TEST(SegmentCoverage, ADangerousObjectLitOnlyByAnothersDangerIsNotCovered) {
+  std::vector<EvalFrame> frames = ahead();
+  for (EvalFrame& f : frames) {
+    f.detections.front().dangerous = false;  // the pedestrian ahead missed by the detector
+    if (f.t >= 2.0 && f.t < 5.0) f.detections.push_back(detection(5.0, 5.0, true));  // 45 deg left
+  }
+  const SegmentCoverage one = segmentCoverage(frames, paper(), SegmentLampParams(), 10);
+  EXPECT_DOUBLE_EQ(one.coverage, 1.0);  // the binary lamp lights everything
+  const SegmentCoverage eight = segmentCoverage(frames, paper(), evenLamp(8, 120.0, 25.0), 10);
+  EXPECT_EQ(eight.binary_tp_object_frames, 30u);
+  EXPECT_EQ(eight.covered_object_frames, 0u);
+  EXPECT_DOUBLE_EQ(eight.coverage, 0.0);
+}
+
+}  // namespace
+}  // namespace icanc
