@@ -229,6 +229,20 @@ void FastDetector::markObstacles() {
   }
 }
 
+void FastDetector::splitPoints(Cloud& ground, Cloud& obstacles) const {
+  ground.clear();
+  obstacles.clear();
+  const float lo = params_.obstacle_height_m, hi = params_.max_height_m;
+  for (std::size_t i = 0; i < kept_; ++i) {
+    const Kept& p = points_[i];
+    const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
+    if (h < lo)
+      ground.push_back(Point(p.x, p.y, p.z));
+    else if (h <= hi)
+      obstacles.push_back(Point(p.x, p.y, p.z));
+  }
+}
+
 std::int32_t FastDetector::find(std::int32_t k) {
   while (parent_[k] != k) {
     parent_[k] = parent_[parent_[k]];  // path halving

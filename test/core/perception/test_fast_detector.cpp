@@ -328,6 +328,34 @@ TEST(FastDetector, ObstacleDetectorRunsEitherMethodAndTracks) {
   EXPECT_EQ(fast.fast(), nullptr);
 }
 
+// The debug clouds (~ground_points, ~obstacle_points): each method's split accounts for the points
+// it kept, the obstacle side holds every clustered point and the ground side the road.
+TEST(FastDetector, SplitPointsOfEitherMethodMatchWhatTheFrameKept) {
+  const Cloud cloud = renderStreet();
+  for (const DetectorMethod method : {DetectorMethod::kFast, DetectorMethod::kClassic}) {
+    ObstacleDetectorParams params;
+    params.prep = wideRoi();
+    params.method = method;
+    params.ground.expected_height_m = -1.73f;  // the cloud is in the roof sensor's frame
+    ObstacleDetector detector(params);
+    detector.process(0.0, cloud);
+    Cloud ground, obstacles;
+    detector.splitPoints(ground, obstacles);
+    std::size_t clustered = 0;
+    for (const Box3D& b : detector.detections()) clustered += b.num_points;
+    ASSERT_GE(detector.detections().size(), 2u) << toString(method);
+    EXPECT_GE(obstacles.size(), clustered) << toString(method);
+    EXPECT_GT(ground.size(), 1000u) << toString(method);
+    EXPECT_LE(ground.size() + obstacles.size(), cloud.size()) << toString(method);
+    // The road lies 1.73 m under the sensor: ground points up to obstacle_height_m (+ noise) above it.
+    for (const Point& p : ground.points) ASSERT_LT(p.z, -1.73f + 0.4f) << toString(method);
+    if (method == DetectorMethod::kFast) {
+      EXPECT_EQ(obstacles.size(), detector.fast()->obstaclePoints());
+      EXPECT_LE(ground.size() + obstacles.size(), detector.fast()->keptPoints());
+    }
+  }
+}
+
 // The nodelet's fused path: the fast detector reading a PointCloud2-shaped buffer in its first
 // pass gives what decoding into a cloud and then detecting gives.
 TEST(FastDetector, DetectingStraightFromTheMessageMatchesDecodingFirst) {

@@ -79,6 +79,11 @@ class FastDetector {
   float groundAt(float x, float y) const;
   std::size_t keptPoints() const { return kept_; }
   std::size_t obstaclePoints() const { return obstacle_points_; }
+  // The last frame's kept points split by their height above the ground under them: `ground`
+  // below obstacle_height_m, `obstacles` obstacle_height_m .. max_height_m (what the clusters are
+  // made of); points higher up are in neither. Both are cleared first. Built only when called
+  // (debug clouds): detect() does none of this work.
+  void splitPoints(Cloud& ground, Cloud& obstacles) const;
 
   // Bytes held by the reusable buffers (capacities): stable in steady state.
   std::size_t capacityBytes() const;
