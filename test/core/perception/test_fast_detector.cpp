@@ -157,26 +157,23 @@ TEST(FastDetector, ObjectsApartAreSeparateAndTouchingOnesJoin) {
   EXPECT_EQ(boxes.size(), 2u);
 }
 
-// Issue 22, item 1: a pedestrian (top 1.7 m above the road) against a 16 m hedge or wall (2.5 m),
-// no gap between them, is its own obstacle with link_max_step_m 0.3; with 0 (the shipped
-// profiles: no height check) the two join,
+// Issue 22, item 1: a pedestrian (top 1.7 m above the road) against a 32 m hedge or wall (2.4 m),
+// no gap between them, is its own obstacle; with link_max_step_m 0 (no height check) the two join,
 // as KITTI 0000's pedestrian 12 joined the 22-37 m hedge beside it in 11 of 16 frames.
 TEST(FastDetector, PedestrianAgainstATallerWallStaysApart) {
   Cloud cloud;
   addGround(cloud, 30.0f, [](float, float) { return kFlat; });
-  addBlock(cloud, {4.0f, -6.5f, kFlat + 0.4f}, {20.0f, -6.05f, kFlat + 2.5f}, 0.1f);  // wall
+  addBlock(cloud, {2.0f, -6.5f, kFlat + 0.4f}, {34.0f, -6.1f, kFlat + 2.4f}, 0.2f);  // wall
   addBlock(cloud, {11.0f, -5.9f, kFlat + 0.4f}, {11.4f, -5.5f, kFlat + 1.7f}, 0.1f);  // walker
   std::vector<Box3D> boxes;
-  FastDetectorParams checked;
-  checked.link_max_step_m = 0.3f;  // off by default
-  FastDetector detector(wideRoi(), checked);
+  FastDetector detector(wideRoi(), FastDetectorParams());
   detector.detect(cloud, boxes);
   ASSERT_EQ(boxes.size(), 2u);
   EXPECT_NEAR(boxes[1].center.x(), 11.2f, 0.1f);
   EXPECT_NEAR(boxes[1].center.y(), -5.7f, 0.1f);
-  EXPECT_NEAR(boxes[0].size.x(), 16.0f, 0.1f);  // the wall whole
+  EXPECT_NEAR(boxes[0].size.x(), 32.0f, 0.1f);  // the wall whole
 
-  // A car-sized component (hood 0.9 m, roof 1.5 m) is not split by the height check.
+  // A car (hood 0.9 m, roof 1.5 m), shorter than step_check_min_extent_m, is not checked: whole.
   Cloud car;
   addGround(car, 30.0f, [](float, float) { return kFlat; });
   addBlock(car, {10.0f, 2.0f, kFlat + 0.4f}, {11.0f, 3.8f, kFlat + 0.9f}, 0.1f);   // hood

@@ -47,13 +47,12 @@ struct FastDetectorParams {
   float link_m = 0.5f;              // occupied cells whose centres are this close (and always
                                     // the 8 neighbours) belong to one obstacle [m]; inside a
                                     // component longer than step_check_min_extent_m only ...
-  float link_max_step_m = 0.0f;     // ... when their highest points differ by at most this: a
+  float link_max_step_m = 0.3f;     // ... when their highest points differ by at most this: a
                                     // pedestrian (1.7 m) against a hedge or wall (2.3 m) stays
-                                    // apart; 0: no height check. Off in the shipped profiles:
-                                    // 0.3 finds more (KITTI pedestrians 8 -> 19 of 22) but
-                                    // raises false danger (docs/performance.md, issue 22) [m]
-  float step_check_min_extent_m = 12.0f;  // longer than a car, van or bus (they stay whole) [m]
-  float step_piece_max_m = 1.5f;    // of the pieces the check makes, those at most this across
+                                    // apart; 0: no height check [m]
+  float step_check_min_extent_m = 30.0f;  // shorter components are not checked: 12 m found more
+                                    // pedestrians but raised false danger (docs/performance.md) [m]
+  float step_piece_max_m = 1.0f;    // of the pieces the check makes, those at most this across
                                     // come apart; the rest of the component stays one [m]
   int sectors = 180;                // polar ground grid: angular sectors over 360 deg
   float range_bin_m = 1.0f;         // polar ground grid: radial bin [m]
