@@ -8,6 +8,8 @@
 
 #include <boost/make_shared.hpp>
 #include <nodelet/nodelet.h>
+#include <pcl/common/transforms.h>
+#include <pcl_conversions/pcl_conversions.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -81,6 +83,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     diagnostics_->updater().add("obstacle detector", this, &ObstacleDetectorNodelet::diagnose);
 
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles", 5);
+    ground_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("ground_points", 2);
+    obstacle_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("obstacle_points", 2);
     sub_ = nh.subscribe("points", 2, &ObstacleDetectorNodelet::onCloud, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     NODELET_INFO("ObstacleDetector on %s -> %s (boxes in '%s', ego motion: %s%s%s)",
@@ -213,6 +217,27 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     input_->processed(out->processing_ms);
     ++published_;
     pub_.publish(ObstacleArray::ConstPtr(out));
+    publishPoints(msg->header, to_target);
+  }
+
+  // ~ground_points and ~obstacle_points (rviz tuning), in the cloud's own frame with its stamp:
+  // built only while someone subscribes, checked per cloud.
+  void publishPoints(const std_msgs::Header& header, const Eigen::Affine3f& to_target) {
+    const bool ground = ground_pub_.getNumSubscribers() > 0;
+    const bool obstacles = obstacle_pub_.getNumSubscribers() > 0;
+    if (!ground && !obstacles) return;
+    detector_->splitPoints(ground_cloud_, obstacle_cloud_);
+    ++debug_frames_;
+    const Eigen::Affine3f to_cloud = to_target.inverse();
+    const auto send = [&](ros::Publisher& pub, const Cloud& points) {
+      pcl::transformPointCloud(points, debug_cloud_, to_cloud);
+      auto out = boost::make_shared<sensor_msgs::PointCloud2>();
+      pcl::toROSMsg(debug_cloud_, *out);
+      out->header = header;
+      pub.publish(sensor_msgs::PointCloud2::ConstPtr(out));
+    };
+    if (ground) send(ground_pub_, ground_cloud_);
+    if (obstacles) send(obstacle_pub_, obstacle_cloud_);
   }
 
   // A wrong ground plane is never silent: a plane rejected as the road (its height, or points
@@ -336,6 +361,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("frames without a ground plane, every point kept", ground_absent_);
     stat.add("last rejected ground plane height m", last_rejected_height_m_);
     stat.add("obstacles (last frame)", last_obstacles_);
+    stat.add("frames with ground/obstacle points published", debug_frames_);
     stat.add("processing ms (last frame)", last_processing_ms_);
     stat.add("prep ms", last_times_.prep_ms);
     stat.add("ground ms", last_times_.ground_ms);
@@ -362,6 +388,9 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<InputMonitor> input_;
   std::unique_ptr<LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>> live_;
   ZeroCopyPublisher pub_;
+  ros::Publisher ground_pub_, obstacle_pub_;
+  Cloud ground_cloud_, obstacle_cloud_, debug_cloud_;  // reused by publishPoints
+  std::uint64_t debug_frames_ = 0;
   ros::Subscriber sub_;
 
   std::string target_frame_ = "base_link";

@@ -18,6 +18,13 @@ std::string validate(const FastDetectorParams& p) {
     why << "fast.cell_m must be in [0.05, 2] (got " << p.cell_m << ")";
   } else if (!(p.link_m >= 0.0f && p.link_m <= 8.0f * p.cell_m)) {
     why << "fast.link_m must be in [0, 8 * fast.cell_m] (got " << p.link_m << ")";
+  } else if (!(p.link_max_step_m >= 0.0f && p.link_max_step_m <= 5.0f)) {
+    why << "fast.link_max_step_m must be in [0, 5] (got " << p.link_max_step_m << ")";
+  } else if (!(p.step_piece_max_m >= 0.0f && p.step_piece_max_m <= 100.0f)) {
+    why << "fast.step_piece_max_m must be in [0, 100] (got " << p.step_piece_max_m << ")";
+  } else if (!(p.step_check_min_extent_m >= 0.0f && p.step_check_min_extent_m <= 1000.0f)) {
+    why << "fast.step_check_min_extent_m must be in [0, 1000] (got " << p.step_check_min_extent_m
+        << ")";
   } else if (p.sectors < 8 || p.sectors > 3600) {
     why << "fast.sectors must be in [8, 3600] (got " << p.sectors << ")";
   } else if (!(p.range_bin_m >= 0.1f && p.range_bin_m <= 10.0f)) {
@@ -105,7 +112,10 @@ std::size_t FastDetector::capacityBytes() const {
          cells_.capacity() * sizeof(Cell) +
          (occupied_.capacity() + parent_.capacity() + next_in_cluster_.capacity() +
           cluster_of_root_.capacity()) * sizeof(std::int32_t) +
-         clusters_.capacity() * sizeof(Cluster) + footprint_.capacity() * sizeof(cv::Point2f);
+         clusters_.capacity() * sizeof(Cluster) + footprint_.capacity() * sizeof(cv::Point2f) +
+         first_root_.capacity() * sizeof(std::int32_t) + root_box_.capacity() * sizeof(root_box_[0]) +
+         long_.capacity() + carved_.capacity() +
+         (piece_root_.capacity() + rest_.capacity()) * sizeof(std::int32_t);
 }
 
 FastDetector::Kept* FastDetector::growPoints(std::size_t used) {
@@ -229,6 +239,20 @@ void FastDetector::markObstacles() {
   }
 }
 
+void FastDetector::splitPoints(Cloud& ground, Cloud& obstacles) const {
+  ground.clear();
+  obstacles.clear();
+  const float lo = params_.obstacle_height_m, hi = params_.max_height_m;
+  for (std::size_t i = 0; i < kept_; ++i) {
+    const Kept& p = points_[i];
+    const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
+    if (h < lo)
+      ground.push_back(Point(p.x, p.y, p.z));
+    else if (h <= hi)
+      obstacles.push_back(Point(p.x, p.y, p.z));
+  }
+}
+
 std::int32_t FastDetector::find(std::int32_t k) {
   while (parent_[k] != k) {
     parent_[k] = parent_[parent_[k]];  // path halving
@@ -237,21 +261,76 @@ std::int32_t FastDetector::find(std::int32_t k) {
   return k;
 }
 
-void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
-  boxes.clear();
+void FastDetector::linkCells(bool check_steps) {
   const std::int32_t n = static_cast<std::int32_t>(occupied_.size());
   parent_.resize(occupied_.size());
   std::iota(parent_.begin(), parent_.end(), 0);
+  const float max_step = params_.link_max_step_m;
   for (std::int32_t k = 0; k < n; ++k) {
     const int cell = occupied_[k];
     const int cx = cell % nx_, cy = cell / nx_;
+    const Cell& here = cells_[cell];
+    const bool check = check_steps && long_[first_root_[k]];
     for (const auto& d : forward_) {
       const int x = cx + d.first, y = cy + d.second;
       if (x < 0 || x >= nx_ || y >= ny_) continue;
       const Cell& other = cells_[static_cast<std::size_t>(y) * nx_ + x];
       if (other.count == 0) continue;
+      if (check && std::abs(other.zmax - here.zmax) > max_step) continue;
       const std::int32_t a = find(k), b = find(other.slot);
       if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    }
+  }
+}
+
+void FastDetector::boundComponents(std::vector<std::int32_t>& root_of) {
+  root_of.resize(occupied_.size());
+  root_box_.assign(occupied_.size(), {nx_, ny_, -1, -1});
+  for (std::size_t k = 0; k < occupied_.size(); ++k) {
+    const std::int32_t root = find(static_cast<std::int32_t>(k));
+    root_of[k] = root;
+    const int cx = occupied_[k] % nx_, cy = occupied_[k] / nx_;
+    auto& b = root_box_[root];
+    b[0] = std::min(b[0], cx);
+    b[1] = std::min(b[1], cy);
+    b[2] = std::max(b[2], cx);
+    b[3] = std::max(b[3], cy);
+  }
+}
+
+void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
+  boxes.clear();
+  const std::int32_t n = static_cast<std::int32_t>(occupied_.size());
+  linkCells(false);
+  if (params_.link_max_step_m > 0.0f) {
+    // Components longer than step_check_min_extent_m (walls, hedges, parked rows and whatever
+    // stands against them) are linked again, now only between cells whose tops differ by at most
+    // link_max_step_m: a pedestrian against a hedge comes apart, a car on its own stays whole.
+    boundComponents(first_root_);
+    const int min_cells = static_cast<int>(params_.step_check_min_extent_m * inv_cell_);
+    long_.assign(occupied_.size(), 0);
+    bool any = false;
+    for (std::int32_t k = 0; k < n; ++k) {
+      const auto& b = root_box_[k];
+      long_[k] = b[2] >= 0 && std::max(b[2] - b[0], b[3] - b[1]) + 1 >= min_cells;
+      any = any || long_[k];
+    }
+    if (any) {
+      linkCells(true);
+      // Of the pieces a long component fell into, only the small ones (a pedestrian, a pole: at
+      // most step_piece_max_m across) come apart; the rest of it stays one obstacle, so a hedge
+      // or a wall whose top varies does not break into fragments.
+      const int max_piece = static_cast<int>(params_.step_piece_max_m * inv_cell_ + 1e-3f);
+      boundComponents(piece_root_);
+      rest_.assign(occupied_.size(), -1);
+      carved_.resize(occupied_.size());
+      for (std::int32_t k = 0; k < n; ++k) {
+        const auto& b = root_box_[piece_root_[k]];
+        carved_[k] = long_[first_root_[k]] && std::max(b[2] - b[0], b[3] - b[1]) + 1 <= max_piece;
+        if (!carved_[k] && rest_[first_root_[k]] < 0) rest_[first_root_[k]] = k;
+      }
+      for (std::int32_t k = 0; k < n; ++k)
+        parent_[k] = carved_[k] ? piece_root_[k] : rest_[first_root_[k]];
     }
   }
 

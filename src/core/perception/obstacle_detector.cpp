@@ -84,6 +84,28 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
   return track(stamp_s, times);
 }
 
+void ObstacleDetector::splitPoints(Cloud& ground, Cloud& obstacles) const {
+  if (fast_) {
+    fast_->splitPoints(ground, obstacles);
+    return;
+  }
+  // removeGround keeps the order of the points it does not remove: the ground is what the walk
+  // along prepared_ does not find, in turn, in nonground_.
+  ground.clear();
+  obstacles = nonground_;
+  std::size_t next = 0;
+  for (const Point& p : prepared_.points) {
+    if (next < nonground_.size()) {
+      const Point& q = nonground_.points[next];
+      if (p.x == q.x && p.y == q.y && p.z == q.z) {
+        ++next;
+        continue;
+      }
+    }
+    ground.push_back(p);
+  }
+}
+
 MultiObjectTracker::UpdateResult ObstacleDetector::track(double stamp_s, StageTimes* times) {
   const double t0 = fastNowMs();
   // Faces at the region of interest's edge are cut there; a box edge lies up to one voxel (classic)

@@ -157,6 +157,38 @@ TEST(FastDetector, ObjectsApartAreSeparateAndTouchingOnesJoin) {
   EXPECT_EQ(boxes.size(), 2u);
 }
 
+// Issue 22, item 1: a pedestrian (top 1.7 m above the road) against a 32 m hedge or wall (2.4 m),
+// no gap between them, is its own obstacle; with link_max_step_m 0 (no height check) the two join,
+// as KITTI 0000's pedestrian 12 joined the 22-37 m hedge beside it in 11 of 16 frames.
+TEST(FastDetector, PedestrianAgainstATallerWallStaysApart) {
+  Cloud cloud;
+  addGround(cloud, 30.0f, [](float, float) { return kFlat; });
+  addBlock(cloud, {2.0f, -6.5f, kFlat + 0.4f}, {34.0f, -6.1f, kFlat + 2.4f}, 0.2f);  // wall
+  addBlock(cloud, {11.0f, -5.9f, kFlat + 0.4f}, {11.4f, -5.5f, kFlat + 1.7f}, 0.1f);  // walker
+  std::vector<Box3D> boxes;
+  FastDetector detector(wideRoi(), FastDetectorParams());
+  detector.detect(cloud, boxes);
+  ASSERT_EQ(boxes.size(), 2u);
+  EXPECT_NEAR(boxes[1].center.x(), 11.2f, 0.1f);
+  EXPECT_NEAR(boxes[1].center.y(), -5.7f, 0.1f);
+  EXPECT_NEAR(boxes[0].size.x(), 32.0f, 0.1f);  // the wall whole
+
+  // A car (hood 0.9 m, roof 1.5 m), shorter than step_check_min_extent_m, is not checked: whole.
+  Cloud car;
+  addGround(car, 30.0f, [](float, float) { return kFlat; });
+  addBlock(car, {10.0f, 2.0f, kFlat + 0.4f}, {11.0f, 3.8f, kFlat + 0.9f}, 0.1f);   // hood
+  addBlock(car, {11.1f, 2.0f, kFlat + 0.4f}, {14.5f, 3.8f, kFlat + 1.5f}, 0.1f);   // cabin
+  detector.detect(car, boxes);
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_NEAR(boxes[0].size.x(), 4.5f, 0.1f);
+
+  FastDetectorParams no_check;
+  no_check.link_max_step_m = 0.0f;
+  FastDetector joined(wideRoi(), no_check);
+  joined.detect(cloud, boxes);
+  EXPECT_EQ(boxes.size(), 1u);
+}
+
 TEST(FastDetector, ClusterSizeLimitsApply) {
   Cloud cloud;
   addGround(cloud, 30.0f, [](float, float) { return kFlat; });
@@ -280,6 +312,12 @@ TEST(FastDetector, InvalidParametersAreNamed) {
   p.max_slope_deg = std::numeric_limits<float>::quiet_NaN();
   EXPECT_NE(validate(p).find("fast.max_slope_deg"), std::string::npos);
   p = FastDetectorParams();
+  p.link_max_step_m = -0.1f;
+  EXPECT_NE(validate(p).find("fast.link_max_step_m"), std::string::npos);
+  p = FastDetectorParams();
+  p.step_check_min_extent_m = -1.0f;
+  EXPECT_NE(validate(p).find("fast.step_check_min_extent_m"), std::string::npos);
+  p = FastDetectorParams();
   p.max_height_m = 0.1f;
   EXPECT_NE(validate(p).find("fast.max_height_m"), std::string::npos);
   p = FastDetectorParams();
@@ -326,6 +364,34 @@ TEST(FastDetector, ObstacleDetectorRunsEitherMethodAndTracks) {
   params.method = DetectorMethod::kClassic;
   fast.setParams(params);
   EXPECT_EQ(fast.fast(), nullptr);
+}
+
+// The debug clouds (~ground_points, ~obstacle_points): each method's split accounts for the points
+// it kept, the obstacle side holds every clustered point and the ground side the road.
+TEST(FastDetector, SplitPointsOfEitherMethodMatchWhatTheFrameKept) {
+  const Cloud cloud = renderStreet();
+  for (const DetectorMethod method : {DetectorMethod::kFast, DetectorMethod::kClassic}) {
+    ObstacleDetectorParams params;
+    params.prep = wideRoi();
+    params.method = method;
+    params.ground.expected_height_m = -1.73f;  // the cloud is in the roof sensor's frame
+    ObstacleDetector detector(params);
+    detector.process(0.0, cloud);
+    Cloud ground, obstacles;
+    detector.splitPoints(ground, obstacles);
+    std::size_t clustered = 0;
+    for (const Box3D& b : detector.detections()) clustered += b.num_points;
+    ASSERT_GE(detector.detections().size(), 2u) << toString(method);
+    EXPECT_GE(obstacles.size(), clustered) << toString(method);
+    EXPECT_GT(ground.size(), 1000u) << toString(method);
+    EXPECT_LE(ground.size() + obstacles.size(), cloud.size()) << toString(method);
+    // The road lies 1.73 m under the sensor: ground points up to obstacle_height_m (+ noise) above it.
+    for (const Point& p : ground.points) ASSERT_LT(p.z, -1.73f + 0.4f) << toString(method);
+    if (method == DetectorMethod::kFast) {
+      EXPECT_EQ(obstacles.size(), detector.fast()->obstaclePoints());
+      EXPECT_LE(ground.size() + obstacles.size(), detector.fast()->keptPoints());
+    }
+  }
 }
 
 // The nodelet's fused path: the fast detector reading a PointCloud2-shaped buffer in its first

@@ -11,9 +11,13 @@
 //     only when the next bin with returns confirms it, so one return below the floor does not
 //     drag the ground down); otherwise the previous ground height carries on. A point is an
 //     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground.
-//  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find over the occupied
-//     cells only), cluster size limits on points, one box per cluster from its footprint
-//     (fitBoxFootprint, shared with the classic chain).
+//  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find
+//     over the occupied cells only); a component longer than step_check_min_extent_m (a wall, a
+//     hedge, and what stands against it) is linked again only between cells whose highest points
+//     differ by at most link_max_step_m, and the small pieces that gives (at most
+//     step_piece_max_m across: a pedestrian, a pole) come apart from the rest; cluster size
+//     limits on points, one box per cluster from its footprint (fitBoxFootprint, shared with the
+//     classic chain).
 //
 // The beam (ring) of a point is never needed, so organized and unorganized clouds, with or
 // without a ring field, go through the same code. Every buffer lives in the FastDetector and is
@@ -21,6 +25,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -40,7 +45,15 @@ namespace icanc {
 struct FastDetectorParams {
   float cell_m = 0.25f;             // BEV grid cell [m]
   float link_m = 0.5f;              // occupied cells whose centres are this close (and always
-                                    // the 8 neighbours) belong to one obstacle [m]
+                                    // the 8 neighbours) belong to one obstacle [m]; inside a
+                                    // component longer than step_check_min_extent_m only ...
+  float link_max_step_m = 0.3f;     // ... when their highest points differ by at most this: a
+                                    // pedestrian (1.7 m) against a hedge or wall (2.3 m) stays
+                                    // apart; 0: no height check [m]
+  float step_check_min_extent_m = 30.0f;  // shorter components are not checked: 12 m found more
+                                    // pedestrians but raised false danger (docs/performance.md) [m]
+  float step_piece_max_m = 1.0f;    // of the pieces the check makes, those at most this across
+                                    // come apart; the rest of the component stays one [m]
   int sectors = 180;                // polar ground grid: angular sectors over 360 deg
   float range_bin_m = 1.0f;         // polar ground grid: radial bin [m]
   float max_slope_deg = 10.0f;      // ground may rise or fall this steeply between bins
@@ -79,6 +92,11 @@ class FastDetector {
   float groundAt(float x, float y) const;
   std::size_t keptPoints() const { return kept_; }
   std::size_t obstaclePoints() const { return obstacle_points_; }
+  // The last frame's kept points split by their height above the ground under them: `ground`
+  // below obstacle_height_m, `obstacles` obstacle_height_m .. max_height_m (what the clusters are
+  // made of); points higher up are in neither. Both are cleared first. Built only when called
+  // (debug clouds): detect() does none of this work.
+  void splitPoints(Cloud& ground, Cloud& obstacles) const;
 
   // Bytes held by the reusable buffers (capacities): stable in steady state.
   std::size_t capacityBytes() const;
@@ -114,6 +132,9 @@ class FastDetector {
   void finishFrame(std::vector<Box3D>& boxes, FastStageTimes* times, double prep_ms);
   void estimateGround();
   void markObstacles();
+  void linkCells(bool check_steps);  // union-find over occupied_ into parent_
+  // Each slot's root into root_of, each root's cell bounds into root_box_.
+  void boundComponents(std::vector<std::int32_t>& root_of);
   void clusterAndFit(std::vector<Box3D>& boxes);
   std::int32_t find(std::int32_t k);
 
@@ -142,6 +163,12 @@ class FastDetector {
   std::vector<std::int32_t> next_in_cluster_;
   std::vector<std::int32_t> cluster_of_root_;
   std::vector<Cluster> clusters_;
+  std::vector<std::int32_t> first_root_;     // root of each slot after linking without steps
+  std::vector<std::array<int, 4>> root_box_;  // per root: cell bounds x0 y0 x1 y1
+  std::vector<std::uint8_t> long_;           // per root: longer than step_check_min_extent_m
+  std::vector<std::int32_t> piece_root_;     // root of each slot after linking with steps
+  std::vector<std::int32_t> rest_;           // per first root: a slot of what is not carved out
+  std::vector<std::uint8_t> carved_;         // per slot: in a small piece of a long component
   std::vector<cv::Point2f> footprint_;
   std::vector<std::pair<int, int>> forward_;  // neighbour offsets linked "forward" (half window)
   std::size_t obstacle_points_ = 0;

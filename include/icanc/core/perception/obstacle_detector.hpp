@@ -67,6 +67,12 @@ class ObstacleDetector {
   const GroundResult& ground() const { return ground_; }  // classic path only
   const FastDetector* fast() const { return fast_.get(); }  // null unless method is kFast
 
+  // The last frame's points as the detector split them, in the frame the clouds were given in
+  // (both cleared first; for debug clouds, built only when called). classic: the prepared
+  // (voxel-grid) points, `ground` the RANSAC plane's inliers, `obstacles` the rest, which the
+  // clusters are made of; fast: FastDetector::splitPoints.
+  void splitPoints(Cloud& ground, Cloud& obstacles) const;
+
   // Where the sensor is in the frame the clouds are given in (the vehicle frame): the tracker
   // measures the faces of each box nearest it (TrackAnchor). Default: the frame's origin. The
   // nodelet sets it from the cloud's transform every frame.
