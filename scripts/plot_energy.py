@@ -132,7 +132,7 @@ def main():
         else:
             fig.text(0.99, 0.01, note.replace("\n", " "), ha="right", va="bottom", fontsize=7.5)
         print(f"plot_energy: {note}")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.03, 1, 1) if show_note and not a.bag_csv else None)
     fig.savefig(a.png, dpi=110)
     print(f"wrote {a.png}")
 
