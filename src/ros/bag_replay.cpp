@@ -185,4 +185,14 @@ void readGraphParams(const std::string& ns, EvalParams& params) {
   if (!why.empty()) throw std::runtime_error(ns + "/danger_detector: " + why);
 }
 
+void readLampPlacement(const std::string& ns, SegmentLampParams& lamp) {
+  ParamReader reader(ros::NodeHandle(ns + "/light_controller"));
+  SegmentLampParams profile;
+  readParams(reader, profile);
+  if (!reader.error().empty()) throw std::runtime_error(ns + "/light_controller: " + reader.error());
+  lamp.lamp_position_m = profile.lamp_position_m;
+  lamp.segment_margin_deg = profile.segment_margin_deg;
+  lamp.low_beam_below_m = profile.low_beam_below_m;
+}
+
 }  // namespace icanc

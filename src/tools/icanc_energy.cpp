@@ -13,7 +13,8 @@
 //
 // Segmented lamp (issue 23, docs/segmented_lamp.md): beside each table, every lamp split evenly
 // into --segments N (8) segments, each dangerous object lighting --segments-lit K (2) of them in
-// the average and best cases (the worst case is every segment always on).
+// the average and best cases (the worst case is every segment always on). --csv writes them too,
+// after the binary rows (columns segments, segments_lit: 1, 1 for the binary lamp).
 //
 // From a bag: the lamp's actual on-time from icanc/LightState messages (header stamps; each state
 // holds until the next message), Wh per lamp and the saving against always-on over the same span.
@@ -137,22 +138,29 @@ int paperCases(const Options& o, const icanc::LampCatalogue& lamps) {
 
   std::printf("\nSegmented lamp (issue 23): each lamp as %zu equal segments, %zu lit per dangerous "
               "object (worst: all always on)\n", o.segments, o.segments_lit);
+  const auto seg_paper_rows = icanc::segmentedEnergyTable(lamps, paper_cases, o.beam, o.segments, o.segments_lit);
+  const auto seg_exact_rows = icanc::segmentedEnergyTable(lamps, exact_cases, o.beam, o.segments, o.segments_lit);
   std::printf("As the paper rounds:\n");
-  printTable(icanc::segmentedEnergyTable(lamps, paper_cases, o.beam, o.segments, o.segments_lit), "%.3f");
+  printTable(seg_paper_rows, "%.3f");
   std::printf("Exact:\n");
-  printTable(icanc::segmentedEnergyTable(lamps, exact_cases, o.beam, o.segments, o.segments_lit), "%.5f");
+  printTable(seg_exact_rows, "%.5f");
 
   if (!o.csv_path.empty()) {
+    // segments, segments_lit: 1, 1 for the binary lamp; the segmented rows beside it.
     std::FILE* f = openCsv(o.csv_path);
-    std::fprintf(f, "rounding,lamp,label,beam,watts,case,danger_fraction,on_hours,wh,saving_wh,saving_pct\n");
-    const auto dump = [&](const char* rounding, const std::vector<icanc::EnergyRow>& rows, double fraction) {
+    std::fprintf(f, "rounding,lamp,label,beam,watts,case,danger_fraction,on_hours,wh,saving_wh,saving_pct,"
+                    "segments,segments_lit\n");
+    const auto dump = [&](const char* rounding, const std::vector<icanc::EnergyRow>& rows, double fraction,
+                          std::size_t segments, std::size_t lit) {
       for (const auto& r : rows)
-        std::fprintf(f, "%s,%s,%s,%s,%g,%s,%.6f,%.6f,%.6f,%.6f,%.3f\n", rounding, r.lamp.c_str(),
+        std::fprintf(f, "%s,%s,%s,%s,%g,%s,%.6f,%.6f,%.6f,%.6f,%.3f,%zu,%zu\n", rounding, r.lamp.c_str(),
                      r.label.c_str(), icanc::toString(o.beam), r.watts, r.case_name.c_str(), fraction,
-                     r.on_hours, r.wh, r.saving_wh, r.saving_pct);
+                     r.on_hours, r.wh, r.saving_wh, r.saving_pct, segments, lit);
     };
-    dump("paper", paper_rows, paper.danger_fraction);
-    dump("exact", exact_rows, exact.danger_fraction);
+    dump("paper", paper_rows, paper.danger_fraction, 1, 1);
+    dump("exact", exact_rows, exact.danger_fraction, 1, 1);
+    dump("paper", seg_paper_rows, paper.danger_fraction, o.segments, o.segments_lit);
+    dump("exact", seg_exact_rows, exact.danger_fraction, o.segments, o.segments_lit);
     std::fclose(f);
     std::printf("\nwrote %s\n", o.csv_path.c_str());
   }

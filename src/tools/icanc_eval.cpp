@@ -7,11 +7,16 @@
 // --rows writes every scored object-frame (outcome, truth, the detection that decided it) as CSV.
 // --segments N (0: off) also replays the frames' dangerous boxes through an N-segment lamp over
 // +-(--segment-span 120)/2 deg beside the binary lamp and prints its coverage and energy
-// (icanc/segment_coverage.hpp; docs/segmented_lamp.md).
+// (icanc/segment_coverage.hpp; docs/segmented_lamp.md). The lamp sits where the profile puts it
+// (light_controller/lamp_position_m, segment_margin_deg, low_beam_below_m of the running graph),
+// and at base_link's origin too, one line each, when the profile puts it elsewhere;
+// --segment-low-watts W (0: high beam only) also scores the same lamp with a low beam of W in all
+// (the catalogue LED: 15 of its 25 W), one more line.
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <ros/ros.h>
 
@@ -25,6 +30,7 @@ const char* const kUsage =
     "usage: icanc_eval BAG [--points /points] [--truth /ground_truth] [--ns /icanc] [--rate R]\n"
     "                  [--fov DEG] [--min-points N] [--match M] [--range M] [--json FILE]\n"
     "                  [--rows FILE.csv] [--name NAME] [--segments N] [--segment-span DEG]\n"
+    "                  [--segment-low-watts W]\n"
     "Replays BAG through a running icanc graph (launch/eval.launch starts both).\n";
 }  // namespace
 
@@ -41,7 +47,7 @@ int main(int argc, char** argv) {
   replay.bag = args[1];
   std::string json, rows_csv, name = replay.bag.substr(replay.bag.rfind('/') + 1);
   int segments = 0;
-  double segment_span_deg = 120.0;
+  double segment_span_deg = 120.0, segment_low_watts = 0.0;
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".bag") == 0) name.resize(name.size() - 4);
   for (std::size_t i = 2; i + 1 < args.size(); i += 2) {
     const std::string& k = args[i];
@@ -59,6 +65,7 @@ int main(int argc, char** argv) {
     else if (k == "--name") name = v;
     else if (k == "--segments") segments = std::atoi(v.c_str());
     else if (k == "--segment-span") segment_span_deg = std::atof(v.c_str());
+    else if (k == "--segment-low-watts") segment_low_watts = std::atof(v.c_str());
     else {
       std::fprintf(stderr, "icanc_eval: unknown option %s\n", k.c_str());
       return icanc::tools::printUsage(kUsage, false);
@@ -83,17 +90,37 @@ int main(int argc, char** argv) {
       std::ofstream(rows_csv) << icanc::toCsv(rows);
       std::printf("wrote %s\n", rows_csv.c_str());
     }
+    // The lamp where the profile puts it on high beam only; with --segment-low-watts, also with its
+    // low beam; and, for comparison, at base_link's origin when the profile puts it elsewhere.
+    struct Variant {
+      bool at_origin;
+      double low_watts;
+    };
+    std::vector<Variant> variants;
     if (segments > 0) {
-      const icanc::SegmentLampParams lamp = icanc::evenLamp(segments, segment_span_deg, 25.0);
+      icanc::SegmentLampParams placed;
+      icanc::readLampPlacement(replay.ns, placed);
+      if (!placed.lamp_position_m.isZero()) variants.push_back({true, 0.0});
+      variants.push_back({false, 0.0});
+      if (segment_low_watts != 0.0) variants.push_back({false, segment_low_watts});
+    }
+    for (const Variant& v : variants) {
+      icanc::SegmentLampParams lamp =
+          icanc::evenLamp(segments, segment_span_deg, icanc::kPaperLampWatts, v.low_watts);
+      icanc::readLampPlacement(replay.ns, lamp);  // the profile's lamp position, margin, low-beam range
+      if (v.at_origin) lamp.lamp_position_m.setZero();
       const std::string why = icanc::validate(lamp);
-      if (!why.empty()) throw std::invalid_argument("--segments/--segment-span: " + why);
+      if (!why.empty()) throw std::invalid_argument("--segments/--segment-span/--segment-low-watts: " + why);
       icanc::LightControllerParams light;
       light.tau_s = params.lamp_tau_s;
       light.recheck_below_s = params.lamp_recheck_below_s;
       const icanc::SegmentCoverage c = icanc::segmentCoverage(frames, light, lamp, params.min_points);
-      std::printf("segmented lamp %s: %d segments over +-%.0f deg: coverage %zu / %zu = %.4f of the "
-                  "binary lamp's dangerous object-frames; energy %.6f / %.6f Wh = %.4f of the binary\n",
-                  name.c_str(), segments, 0.5 * segment_span_deg, c.covered_object_frames,
+      std::printf("segmented lamp %s: %d segments over +-%.0f deg, lamp at (%.2f, %.2f) m%s, margin %.1f deg, "
+                  "low beam %.3g W below %.3g m: coverage %zu / %zu = %.4f of the binary lamp's dangerous "
+                  "object-frames; energy %.6f / %.6f Wh = %.4f of the binary\n",
+                  name.c_str(), segments, 0.5 * segment_span_deg, lamp.lamp_position_m.x(),
+                  lamp.lamp_position_m.y(), v.at_origin ? " (base_link, for comparison)" : " (profile)",
+                  lamp.segment_margin_deg, v.low_watts, lamp.low_beam_below_m, c.covered_object_frames,
                   c.binary_tp_object_frames, c.coverage, c.segmented_wh, c.binary_wh, c.energy_ratio);
     }
   } catch (const std::exception& e) {

@@ -10,6 +10,7 @@
 #include <ros/node_handle.h>
 
 #include "icanc/core/evaluation/evaluation.hpp"
+#include "icanc/core/light/lamp_segments.hpp"
 
 namespace icanc {
 
@@ -36,5 +37,10 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& optio
 // (EvalParams::lamp_tau_s, lamp_recheck_below_s) and the danger detector's parameters
 // (EvalParams::danger). Throws std::runtime_error when the danger parameters are invalid.
 void readGraphParams(const std::string& ns, EvalParams& params);
+
+// Where the graph's profile puts the segmented lamp (`ns`/light_controller: lamp_position_m,
+// segment_margin_deg, low_beam_below_m) into `lamp`, keeping its segments. Throws
+// std::runtime_error when a key is malformed.
+void readLampPlacement(const std::string& ns, SegmentLampParams& lamp);
 
 }  // namespace icanc

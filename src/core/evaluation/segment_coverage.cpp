@@ -19,13 +19,14 @@ Eigen::AlignedBox2d footprintBounds(const TruthObject& o) {
 
 }  // namespace
 
-SegmentLampParams evenLamp(std::size_t segments, double span_deg, double watts_total) {
+SegmentLampParams evenLamp(std::size_t segments, double span_deg, double watts_total, double low_watts_total) {
   SegmentLampParams p;
   for (std::size_t i = 0; i < segments; ++i) {
     LampSegment s;
     s.azimuth_min_deg = -0.5 * span_deg + span_deg * double(i) / double(segments);
     s.azimuth_max_deg = -0.5 * span_deg + span_deg * double(i + 1) / double(segments);
     s.watts = watts_total / double(segments);
+    s.low_watts = low_watts_total / double(segments);
     p.segments.push_back(s);
   }
   return p;

@@ -60,6 +60,10 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
     EXPECT_EQ(effectiveSegments(p->lamp).size(), 1u);
     EXPECT_DOUBLE_EQ(p->lamp.segment_margin_deg, 2.0);
     EXPECT_DOUBLE_EQ(p->lamp.low_beam_below_m, 15.0);
+    // The headlight at the vehicle's front, one centred unit (not at base_link's origin).
+    EXPECT_FLOAT_EQ(p->lamp.lamp_position_m.x(), float(p->corridor.vehicle_front_m));
+    EXPECT_FLOAT_EQ(p->lamp.lamp_position_m.y(), 0.0f);
+    EXPECT_DOUBLE_EQ(p->danger.vehicle_front_m, p->corridor.vehicle_front_m);
     EXPECT_FLOAT_EQ(p->detector.ground.max_height_error_m, 0.5f);
     EXPECT_FLOAT_EQ(p->detector.footprint_cell_m, 1.0f);
     EXPECT_DOUBLE_EQ(p->detector.tracker.accel_std, 3.0);

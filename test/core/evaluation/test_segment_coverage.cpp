@@ -1,7 +1,8 @@
 // Pins the offline segmented-lamp measurement on scored frames: the one-segment lamp is the binary
 // lamp (coverage 1, same energy); eight segments light a quarter of the lamp for an object
 // straight ahead and still cover it; a truly dangerous object the lamp was not lit for (another
-// object's danger lit it) is not covered.
+// object's danger lit it) is not covered. Where the lamp is decides how many segments a near
+// object lights (lamp_position_m); the low beam draws low_watts / watts.
 #include <gtest/gtest.h>
 
 #include "icanc/core/evaluation/segment_coverage.hpp"
@@ -84,6 +85,44 @@ TEST(SegmentCoverage, ADangerousObjectLitOnlyByAnothersDangerIsNotCovered) {
   EXPECT_EQ(eight.binary_tp_object_frames, 30u);
   EXPECT_EQ(eight.covered_object_frames, 0u);
   EXPECT_DOUBLE_EQ(eight.coverage, 0.0);
+}
+
+// 10 s at 10 Hz: a pedestrian 1 m ahead of base_link, dangerous from 2 s to 5 s.
+std::vector<EvalFrame> near() {
+  std::vector<EvalFrame> frames = ahead();
+  for (EvalFrame& f : frames) {
+    f.truth.front().center.x() = 1.0;
+    f.detections.front() = detection(1.0, 0.0, f.detections.front().dangerous);
+  }
+  return frames;
+}
+
+TEST(SegmentCoverage, WhereTheLampIsDecidesTheSegmentsANearObjectLights) {
+  SegmentLampParams lamp = evenLamp(8, 120.0, 25.0);
+  const SegmentCoverage at_origin = segmentCoverage(near(), paper(), lamp, 10);
+  EXPECT_DOUBLE_EQ(at_origin.coverage, 1.0);
+  // Seen from base_link the 0.5 m box 1 m ahead spans +-18.4 deg, +-20.4 with the margin: 4 segments.
+  EXPECT_NEAR(at_origin.energy_ratio, 0.5, 1e-12);
+  lamp.lamp_position_m.x() = -2.0;  // 2.75 m behind the near face: +-5.2 deg, +-7.2 with the margin
+  const SegmentCoverage behind = segmentCoverage(near(), paper(), lamp, 10);
+  EXPECT_DOUBLE_EQ(behind.coverage, 1.0);
+  EXPECT_NEAR(behind.energy_ratio, 0.25, 1e-12);
+  lamp.lamp_position_m.x() = 0.6;  // 0.15 m behind the near face: +-59 deg, +-61: every segment
+  const SegmentCoverage close = segmentCoverage(near(), paper(), lamp, 10);
+  EXPECT_DOUBLE_EQ(close.coverage, 1.0);
+  EXPECT_NEAR(close.energy_ratio, 1.0, 1e-12);
+}
+
+TEST(SegmentCoverage, TheLowBeamDrawsItsShareForNearObjects) {
+  const SegmentLampParams lamp = evenLamp(8, 120.0, 25.0, 15.0);  // the catalogue LED: 15 of 25 W
+  ASSERT_EQ(validate(lamp), "");
+  EXPECT_DOUBLE_EQ(lamp.segments[0].low_watts, 15.0 / 8.0);
+  const SegmentCoverage c = segmentCoverage(ahead(), paper(), lamp, 10);  // 8 m < low_beam_below_m
+  EXPECT_DOUBLE_EQ(c.coverage, 1.0);
+  EXPECT_NEAR(c.energy_ratio, 0.25 * 15.0 / 25.0, 1e-6);  // levels are float
+  SegmentLampParams far = lamp;
+  far.low_beam_below_m = 5.0;  // the object 8 m away needs the high beam
+  EXPECT_NEAR(segmentCoverage(ahead(), paper(), far, 10).energy_ratio, 0.25, 1e-12);
 }
 
 }  // namespace

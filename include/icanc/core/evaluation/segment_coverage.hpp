@@ -30,7 +30,9 @@ struct SegmentCoverage {
 SegmentCoverage segmentCoverage(const std::vector<EvalFrame>& frames, const LightControllerParams& light,
                                 const SegmentLampParams& lamp, std::uint32_t min_points);
 
-// N equal segments over [-span/2, span/2] deg, watts_total / N each (high beam only).
-SegmentLampParams evenLamp(std::size_t segments, double span_deg, double watts_total);
+// N equal segments over [-span/2, span/2] deg, watts_total / N each on high beam and
+// low_watts_total / N on low beam (0: high beam only).
+SegmentLampParams evenLamp(std::size_t segments, double span_deg, double watts_total,
+                           double low_watts_total = 0.0);
 
 }  // namespace icanc
