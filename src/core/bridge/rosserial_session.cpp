@@ -147,6 +147,10 @@ bool LightBridgeSession::commandStale(double now) const {
   return !has_command_ || !(now - last_command_s_ < params_.cmd_stale_timeout_s);
 }
 
+bool LightBridgeSession::levelsStale(double now) const {
+  return levels_.empty() || !(now - last_levels_s_ < params_.cmd_stale_timeout_s);
+}
+
 bool LightBridgeSession::commandInForce(double now) const { return commandStale(now) || command_; }
 
 void LightBridgeSession::sendCommand(double now, SessionOutput& out) {
@@ -163,7 +167,7 @@ void LightBridgeSession::sendCommand(double now, SessionOutput& out) {
 
 void LightBridgeSession::sendLevels(double now, SessionOutput& out) {
   if (levels_id_ == 0) return;
-  const bool stale = commandStale(now) || levels_.empty() || !(now - last_levels_s_ < params_.cmd_stale_timeout_s);
+  const bool stale = commandStale(now) || levelsStale(now);
   std::vector<std::uint8_t> payload;
   rosserial::serializeUInt8Array(stale ? std::vector<std::uint8_t>(std::max<std::size_t>(1, levels_.size()), 255)
                                        : levels_, payload);
@@ -173,8 +177,7 @@ void LightBridgeSession::sendLevels(double now, SessionOutput& out) {
 
 void LightBridgeSession::onLevels(const std::vector<std::uint8_t>& levels, double now, SessionOutput& out) {
   // Changed, or back after the fail-safe's 255s: sent at once; else with the next heartbeat.
-  const bool was_stale = levels_.empty() || !(now - last_levels_s_ < params_.cmd_stale_timeout_s);
-  const bool changed = was_stale || levels != levels_;
+  const bool changed = levelsStale(now) || levels != levels_;
   levels_ = levels;
   last_levels_s_ = now;
   if (changed && state_ == LinkState::kSynced) sendLevels(now, out);

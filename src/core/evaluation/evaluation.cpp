@@ -114,6 +114,11 @@ void count(Confusion& c, Outcome outcome) {
 
 }  // namespace
 
+Eigen::AlignedBox2d footprintBounds(const TruthObject& truth) {
+  const Eigen::Vector2d reach = axisAlignedReach(truth);
+  return Eigen::AlignedBox2d(truth.center - reach, truth.center + reach);
+}
+
 const char* toString(Outcome outcome) {
   switch (outcome) {
     case Outcome::kTruePositive: return "TP";

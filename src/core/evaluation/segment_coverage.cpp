@@ -5,19 +5,6 @@
 #include "icanc/core/light/segmented_light_controller.hpp"
 
 namespace icanc {
-namespace {
-
-// The axis-aligned bounds of a true object's oriented footprint.
-Eigen::AlignedBox2d footprintBounds(const TruthObject& o) {
-  const Eigen::Rotation2Dd yaw(o.yaw);
-  Eigen::AlignedBox2d box;
-  for (const double sx : {-0.5, 0.5})
-    for (const double sy : {-0.5, 0.5})
-      box.extend(o.center + yaw * Eigen::Vector2d(sx * o.size.x(), sy * o.size.y()));
-  return box;
-}
-
-}  // namespace
 
 SegmentLampParams evenLamp(std::size_t segments, double span_deg, double watts_total, double low_watts_total) {
   SegmentLampParams p;

@@ -164,6 +164,8 @@ class LightBridgeSession {
   bool commandInForce(double now) const;
   // No lamp_cmd for cmd_stale_timeout_s, or none yet.
   bool commandStale(double now) const;
+  // No lamp_command levels for cmd_stale_timeout_s, or none yet.
+  bool levelsStale(double now) const;
   bool hasLampReport() const { return has_lamp_report_; }
   bool lampReport() const { return lamp_report_; }
   // Unknown (fail-safe) unless synced; the report of this link only (forgotten when it drops).

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // AlignedBox2d
 
 #include "icanc/core/danger/danger.hpp"
 
@@ -172,6 +173,9 @@ struct ScoredRow {
 
 // Distance from a point to the oriented footprint of a true object (0 when inside).
 double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& point);
+
+// The axis-aligned bounds (x, y) of a true object's oriented footprint.
+Eigen::AlignedBox2d footprintBounds(const TruthObject& truth);
 
 // `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger, and
 // one kDontCare row per dangerous detection on an unscored true object.
