@@ -229,8 +229,12 @@ class LightControllerNodelet : public nodelet::Nodelet {
     command->levels = segmented_->levels();
     command->reason = static_cast<std::uint8_t>(segmented_->reason());
     command->reason_text = toString(segmented_->reason());
+    command->input_stamp = input_stamp_;
     state_pub_.publish(LightState::ConstPtr(state));
     lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
+    if (answers_input && !input_receive_time_.isZero())  // the levels' own latency, after the binary lamp's
+      command->input_latency_ms = static_cast<float>(
+          (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
     command_pub_.publish(LampCommand::ConstPtr(command));
     if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
     if (segment_marker_pub_.getNumSubscribers() > 0)

@@ -193,6 +193,8 @@ void readLampPlacement(const std::string& ns, SegmentLampParams& lamp) {
   lamp.lamp_position_m = profile.lamp_position_m;
   lamp.segment_margin_deg = profile.segment_margin_deg;
   lamp.low_beam_below_m = profile.low_beam_below_m;
+  lamp.full_power_range_m = profile.full_power_range_m;
+  lamp.min_level = profile.min_level;
 }
 
 }  // namespace icanc

@@ -3,7 +3,10 @@
 // ratio classic/fast, and detection quality on the labelled KITTI objects (kitti_score.hpp); the
 // LiDAR odometry (profile's lidar_odometry section) alone and after the fast detector.
 // Then scaling with points (simulated 16/32/64/128-channel scans) and with objects (the tracker
-// alone with 10/100/200/500 objects). Timing is steady_clock around each stage, single thread.
+// alone with 10/100/200/500 objects), and the lamp: the paper's binary LightController against the
+// 8-segment lamp (dimmed by distance) per input, with 0/1/5/20 dangerous boxes (issue 23: the
+// segment levels must not come later than the binary command). Timing is steady_clock around each
+// stage, single thread.
 //
 //   icanc_bench [--kitti DIR] [--profile PROFILE.yaml] [--frames N] [--smoke]
 // DIR defaults to ../shared/data/kitti_tracking_0000 (skipped with a message when absent);
@@ -25,6 +28,8 @@
 #include "icanc/core/motion/lidar_odometry.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
 #include "icanc/core/common/yaml_params.hpp"
+#include "icanc/core/light/light_controller.hpp"
+#include "icanc/core/light/segmented_light_controller.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "tool_help.hpp"
 
@@ -281,6 +286,57 @@ void runTracking(const icanc::TrackerParams& params, int frames) {
   std::printf("\n");
 }
 
+// Per input: LightController::onInput (the binary lamp) against SegmentedLightController::onInput
+// + levels() (8 segments of 15 deg over +-60, dimmed by distance), boxes spread ahead at 3-25 m.
+// Microseconds per input, over batches of 100 inputs.
+void runLamp(const icanc::LightControllerParams& light, int batches) {
+  std::printf("## The lamp per input: binary vs 8 segments (dimmed), microseconds per input\n\n");
+  std::printf("| dangerous boxes | binary p50 | p99 | 8 segments p50 | p99 | ratio p50 |\n"
+              "| --- | --- | --- | --- | --- | --- |\n");
+  icanc::SegmentLampParams lamp;
+  for (int i = 0; i < 8; ++i) {
+    icanc::LampSegment seg;
+    seg.azimuth_min_deg = -60.0 + 15.0 * i;
+    seg.azimuth_max_deg = seg.azimuth_min_deg + 15.0;
+    seg.watts = 25.0 / 8.0;
+    lamp.segments.push_back(seg);
+  }
+  lamp.full_power_range_m = 15.0;
+  icanc::LightControllerParams offline = light;
+  offline.watchdog_enabled = false;
+  constexpr int kPerBatch = 100;
+  for (int n : {0, 1, 5, 20}) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> x(3.0, 25.0), y(-8.0, 8.0);
+    std::vector<Eigen::AlignedBox2d> boxes;
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector2d c(x(rng), y(rng));
+      boxes.emplace_back(c - Eigen::Vector2d(0.3, 0.3), c + Eigen::Vector2d(0.3, 0.3));
+    }
+    icanc::LightController binary(offline);
+    icanc::SegmentedLightController segmented(offline, lamp);
+    std::vector<double> binary_us, segmented_us;
+    float sink = 0.0f;
+    double now = 0.0;
+    for (int b = 0; b < batches; ++b) {
+      double t0 = icanc::fastNowMs();
+      for (int k = 0; k < kPerBatch; ++k) binary.onInput(now + 0.1 * k, !boxes.empty(), false);
+      binary_us.push_back((icanc::fastNowMs() - t0) * 1e3 / kPerBatch);
+      t0 = icanc::fastNowMs();
+      for (int k = 0; k < kPerBatch; ++k) {
+        segmented.onInput(now + 0.1 * k, boxes, false);
+        sink += segmented.levels().front();
+      }
+      segmented_us.push_back((icanc::fastNowMs() - t0) * 1e3 / kPerBatch);
+      now += 0.1 * kPerBatch;
+    }
+    const double b50 = percentile(binary_us, 0.5), s50 = percentile(segmented_us, 0.5);
+    std::printf("| %d | %.3f | %.3f | %.3f | %.3f | %.1fx |%s\n", n, b50, percentile(binary_us, 0.99), s50,
+                percentile(segmented_us, 0.99), b50 > 0.0 ? s50 / b50 : 0.0, sink < 0.0f ? " " : "");
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 namespace {
@@ -325,6 +381,7 @@ int main(int argc, char** argv) {
     runKitti(dir, classic, fast, loaded.lidar_odometry, frames);
     runSimulated(classic, fast, smoke ? 3 : 30);
     runTracking(loaded.detector.tracker, smoke ? 5 : 100);
+    runLamp(loaded.light, smoke ? 5 : 200);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icanc_bench: %s\n", e.what());
     return 1;

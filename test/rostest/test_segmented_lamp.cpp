@@ -2,7 +2,8 @@
 // approach_front.yaml walk straight at it. lamp_command must light only the two segments either
 // side of straight ahead (low beam: the danger starts within 6 m), light all 8 in the fail-safe
 // before clouds flow, and agree with the binary lamp (light_state, lamp_cmd) on every publication;
-// ~lamp_segments draws the 8 wedges while subscribed. segments_fault.test: an invalid segment list
+// ~lamp_segments draws the 8 wedges while subscribed; each command answering an input names it
+// and its latency, as the light state does (latency tools). segments_fault.test: an invalid segment list
 // is a faulted LightController that lights every segment (and the binary lamp).
 #include <map>
 
@@ -46,6 +47,7 @@ TEST(SegmentedLamp, LightsOnlyWhereTheDangerIsAndAgreesWithTheBinaryLamp) {
   std::lock_guard<std::mutex> lock(cr.mutex);
   ASSERT_GT(cr.commands.size(), g.scenario().frames() / 2);
   std::map<ros::Time, bool> any_on;  // by stamp: one command per light state
+  std::map<ros::Time, LampCommand::ConstPtr> by_stamp;
   std::size_t danger = 0, fail_safe = 0;
   for (const auto& c : cr.commands) {
     ASSERT_EQ(c->levels.size(), 8u) << "reason " << c->reason_text;
@@ -53,6 +55,7 @@ TEST(SegmentedLamp, LightsOnlyWhereTheDangerIsAndAgreesWithTheBinaryLamp) {
     bool any = false;
     for (float l : c->levels) any = any || l > 0.0f;
     any_on[c->header.stamp] = any;
+    by_stamp[c->header.stamp] = c;
     if (c->reason == LightState::REASON_SENSOR_STALE) {
       ++fail_safe;
       for (float l : c->levels) EXPECT_FLOAT_EQ(l, 1.0f) << "fail-safe must light every segment";
@@ -70,14 +73,21 @@ TEST(SegmentedLamp, LightsOnlyWhereTheDangerIsAndAgreesWithTheBinaryLamp) {
 
   Recorder& rec = g.recorder();
   std::lock_guard<std::mutex> rec_lock(rec.mutex);
-  std::size_t compared = 0;
+  std::size_t compared = 0, answered = 0;
   for (const auto& s : rec.states) {
     const auto it = any_on.find(s->header.stamp);
     if (it == any_on.end()) continue;
     ++compared;
     EXPECT_EQ(it->second, bool(s->on)) << "at " << (s->header.stamp - t0).toSec() << " s";
+    const LampCommand& c = *by_stamp[s->header.stamp];
+    EXPECT_EQ(c.input_stamp, s->input_stamp);
+    if (s->input_latency_ms > 0.0f) {  // answers an input: its levels published after the state
+      ++answered;
+      EXPECT_GE(c.input_latency_ms, s->input_latency_ms);
+    }
   }
   EXPECT_GT(compared, g.scenario().frames() / 2);
+  EXPECT_GT(answered, g.scenario().frames() / 2) << "commands answering an input carry its latency";
   EXPECT_GT(cr.marker_arrays, 0u);
   EXPECT_EQ(cr.markers, 8u);
 }

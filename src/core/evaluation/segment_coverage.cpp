@@ -1,6 +1,8 @@
 #include "icanc/core/evaluation/segment_coverage.hpp"
 
 #include <cmath>
+#include <set>
+#include <utility>
 
 #include "icanc/core/light/segmented_light_controller.hpp"
 
@@ -20,7 +22,12 @@ SegmentLampParams evenLamp(std::size_t segments, double span_deg, double watts_t
 }
 
 SegmentCoverage segmentCoverage(const std::vector<EvalFrame>& frames, const LightControllerParams& light,
-                                const SegmentLampParams& lamp, std::uint32_t min_points) {
+                                const SegmentLampParams& lamp, std::uint32_t min_points,
+                                const std::vector<ScoredRow>* rows) {
+  std::set<std::pair<double, std::uint32_t>> flagged;  // (t, true id) the detector flagged
+  if (rows)
+    for (const ScoredRow& r : *rows)
+      if (r.outcome == Outcome::kTruePositive && r.has_truth) flagged.emplace(r.t, r.truth.id);
   LightControllerParams offline = light;
   offline.watchdog_enabled = false;  // frames are given, not awaited
   LightController binary(offline);
@@ -58,17 +65,26 @@ SegmentCoverage segmentCoverage(const std::vector<EvalFrame>& frames, const Ligh
     if (!binary_on) continue;
     for (const TruthObject& o : f.truth) {
       if (!o.dangerous || o.num_points < min_points) continue;
-      ++out.binary_tp_object_frames;
       const AzimuthRange range = azimuthRange(footprintBounds(o), at);
-      for (std::size_t i = 0; i < segments.size(); ++i)
-        if (levels[i] > 0.0f && covers(segments[i], range, 0.0)) {
-          ++out.covered_object_frames;
-          break;
-        }
+      bool in_beam = false, lit = false;
+      for (std::size_t i = 0; i < segments.size(); ++i) {
+        if (!covers(segments[i], range, 0.0)) continue;
+        in_beam = true;
+        lit = lit || levels[i] > 0.0f;
+      }
+      out.outside_beam_object_frames += !in_beam;
+      out.binary_tp_object_frames += in_beam;
+      out.covered_object_frames += lit;
+      if (in_beam && flagged.count({f.t, o.id})) {
+        ++out.flagged_object_frames;
+        out.flagged_covered_object_frames += lit;
+      }
     }
   }
   out.coverage = out.binary_tp_object_frames
       ? double(out.covered_object_frames) / double(out.binary_tp_object_frames) : 1.0;
+  out.flagged_coverage = out.flagged_object_frames
+      ? double(out.flagged_covered_object_frames) / double(out.flagged_object_frames) : 1.0;
   out.energy_ratio = out.binary_wh > 0.0 ? out.segmented_wh / out.binary_wh : 0.0;
   return out;
 }

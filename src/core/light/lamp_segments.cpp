@@ -44,6 +44,19 @@ std::string validate(const SegmentLampParams& params) {
     why << "light.segment_margin_deg must be in [0, 90] (got " << params.segment_margin_deg << ")";
   else if (!(params.low_beam_below_m >= 0.0 && std::isfinite(params.low_beam_below_m)))
     why << "light.low_beam_below_m must be >= 0 (got " << params.low_beam_below_m << ")";
+  else if (!(params.full_power_range_m >= 0.0 && params.full_power_range_m <= 1000.0))
+    why << "light.full_power_range_m must be in [0, 1000], 0 = no dimming (got "
+        << params.full_power_range_m << ")";
+  else if (!(params.min_level > 0.0 && params.min_level <= 1.0))
+    why << "light.min_level must be in (0, 1] (got " << params.min_level << ")";
+  if (!why.str().empty() || !(params.full_power_range_m > 0.0)) return why.str();
+  for (std::size_t i = 0; i < params.segments.size(); ++i)
+    if (params.segments[i].low_watts > 0.0) {
+      why << "light.segments[" << i << "].low_watts: a lamp dimmed by distance (full_power_range_m "
+          << params.full_power_range_m << ") has no separate low beam; set low_watts 0 or "
+          << "full_power_range_m 0";
+      break;
+    }
   return why.str();
 }
 
@@ -54,6 +67,16 @@ std::vector<LampSegment> effectiveSegments(const SegmentLampParams& params) {
   paper.azimuth_max_deg = 180.0;
   paper.watts = kPaperLampWatts;
   return {paper};
+}
+
+double requiredLevel(const SegmentLampParams& params, const LampSegment& segment, double distance_m) {
+  if (!(distance_m >= 0.0)) return 1.0;  // NaN: unknown place, full power
+  if (params.full_power_range_m > 0.0) {
+    const double ratio = distance_m / params.full_power_range_m;
+    return std::clamp(ratio * ratio, params.min_level, 1.0);
+  }
+  if (segment.low_watts > 0.0 && distance_m < params.low_beam_below_m) return segment.low_watts / segment.watts;
+  return 1.0;
 }
 
 AzimuthRange azimuthRange(const Eigen::AlignedBox2d& box, const Eigen::Vector2d& lamp) {

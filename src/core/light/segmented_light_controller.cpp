@@ -1,13 +1,14 @@
 #include "icanc/core/light/segmented_light_controller.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace icanc {
 
 SegmentedLightController::SegmentedLightController(const LightControllerParams& params,
                                                    const SegmentLampParams& lamp)
     : lamp_(lamp), segments_(effectiveSegments(lamp)), timers_(segments_.size(), LightController(params)),
-      high_(segments_.size(), true) {}
+      level_(segments_.size(), 1.0) {}
 
 void SegmentedLightController::setParams(const LightControllerParams& params) {
   for (LightController& t : timers_) t.setParams(params);
@@ -17,24 +18,24 @@ void SegmentedLightController::onInput(double now, const std::vector<Eigen::Alig
                                        bool sensor_blind, bool unlocated_danger) {
   const Eigen::Vector2d lamp = lamp_.lamp_position_m.head<2>().cast<double>();
   std::vector<bool> hit(segments_.size(), unlocated_danger);
-  std::vector<bool> needs_high(segments_.size(), unlocated_danger);
+  std::vector<double> needs(segments_.size(), unlocated_danger ? 1.0 : 0.0);
   for (const Eigen::AlignedBox2d& box : dangerous) {
     const AzimuthRange range = azimuthRange(box, lamp);
-    const bool far = !(box.exteriorDistance(lamp) < lamp_.low_beam_below_m);  // NaN box: high
+    const double distance = box.isEmpty() ? std::nan("") : box.exteriorDistance(lamp);
     bool lit = false;
     for (std::size_t i = 0; i < segments_.size(); ++i) {
       if (!covers(segments_[i], range, lamp_.segment_margin_deg)) continue;
       lit = true;
       hit[i] = true;
-      needs_high[i] = needs_high[i] || far || !(segments_[i].low_watts > 0.0);
+      needs[i] = std::max(needs[i], requiredLevel(lamp_, segments_[i], distance));
     }
     unlit_objects_ += !lit;
   }
   for (std::size_t i = 0; i < segments_.size(); ++i) {
     if (timers_[i].onInput(now, hit[i], sensor_blind))
-      high_[i] = needs_high[i];  // (re)started: the beam these objects need
+      level_[i] = needs[i];  // (re)started: the level these objects need
     else if (hit[i] && timers_[i].on())
-      high_[i] = high_[i] || needs_high[i];  // ignored by the timer: a far object still raises it
+      level_[i] = std::max(level_[i], needs[i]);  // ignored by the timer: a farther object still raises it
   }
 }
 
@@ -55,7 +56,7 @@ std::vector<float> SegmentedLightController::levels() const {
   for (std::size_t i = 0; i < segments_.size(); ++i) {
     if (!timers_[i].on()) continue;
     const bool fail_safe = timers_[i].reason() != LightReason::kDanger;
-    out[i] = fail_safe || high_[i] ? 1.0f : static_cast<float>(segments_[i].low_watts / segments_[i].watts);
+    out[i] = fail_safe ? 1.0f : static_cast<float>(level_[i]);
   }
   return out;
 }

@@ -60,6 +60,8 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
     EXPECT_EQ(effectiveSegments(p->lamp).size(), 1u);
     EXPECT_DOUBLE_EQ(p->lamp.segment_margin_deg, 2.0);
     EXPECT_DOUBLE_EQ(p->lamp.low_beam_below_m, 15.0);
+    EXPECT_DOUBLE_EQ(p->lamp.full_power_range_m, 0.0);  // no dimming: the paper's on / off lamp
+    EXPECT_DOUBLE_EQ(p->lamp.min_level, 0.05);
     // The headlight at the vehicle's front, one centred unit (not at base_link's origin).
     EXPECT_FLOAT_EQ(p->lamp.lamp_position_m.x(), float(p->corridor.vehicle_front_m));
     EXPECT_FLOAT_EQ(p->lamp.lamp_position_m.y(), 0.0f);
@@ -104,6 +106,11 @@ TEST(Profiles, BadValueNamesFileAndKey) {
   ASSERT_EQ(two.lamp.segments.size(), 2u);
   EXPECT_DOUBLE_EQ(two.lamp.segments[0].low_watts, 2.0);
   EXPECT_DOUBLE_EQ(two.lamp.segments[1].azimuth_max_deg, 90.0);
+  // A lamp with a low beam cannot also dim by distance.
+  expectRefused(path, "light_controller:\n  full_power_range_m: 20\n  segments:\n"
+                "    - {azimuth_min_deg: -10, azimuth_max_deg: 10, watts: 3, low_watts: 2}\n",
+                "segments[0].low_watts", "a low beam with dimming");
+  expectRefused(path, "light_controller:\n  min_level: 0\n", "min_level", "a zero dimming floor");
   std::remove(path.c_str());
 }
 

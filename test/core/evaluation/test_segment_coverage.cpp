@@ -81,10 +81,23 @@ TEST(SegmentCoverage, ADangerousObjectLitOnlyByAnothersDangerIsNotCovered) {
   }
   const SegmentCoverage one = segmentCoverage(frames, paper(), SegmentLampParams(), 10);
   EXPECT_DOUBLE_EQ(one.coverage, 1.0);  // the binary lamp lights everything
-  const SegmentCoverage eight = segmentCoverage(frames, paper(), evenLamp(8, 120.0, 25.0), 10);
+  std::vector<ScoredRow> rows;
+  evaluate(frames, EvalParams(), &rows);
+  const SegmentCoverage eight = segmentCoverage(frames, paper(), evenLamp(8, 120.0, 25.0), 10, &rows);
   EXPECT_EQ(eight.binary_tp_object_frames, 30u);
   EXPECT_EQ(eight.covered_object_frames, 0u);
   EXPECT_DOUBLE_EQ(eight.coverage, 0.0);
+  // The detector never flagged the pedestrian: the binary lamp lit it by chance, and of the
+  // object-frames it flagged none was left dark.
+  EXPECT_EQ(eight.flagged_object_frames, 0u);
+  EXPECT_DOUBLE_EQ(eight.flagged_coverage, 1.0);
+  // Flagged, it is covered: the rows say which object-frames the detector flagged.
+  const std::vector<EvalFrame> seen = ahead();
+  rows.clear();
+  evaluate(seen, EvalParams(), &rows);
+  const SegmentCoverage flagged = segmentCoverage(seen, paper(), evenLamp(8, 120.0, 25.0), 10, &rows);
+  EXPECT_EQ(flagged.flagged_object_frames, 30u);
+  EXPECT_EQ(flagged.flagged_covered_object_frames, 30u);
 }
 
 // 10 s at 10 Hz: a pedestrian 1 m ahead of base_link, dangerous from 2 s to 5 s.
@@ -123,6 +136,36 @@ TEST(SegmentCoverage, TheLowBeamDrawsItsShareForNearObjects) {
   SegmentLampParams far = lamp;
   far.low_beam_below_m = 5.0;  // the object 8 m away needs the high beam
   EXPECT_NEAR(segmentCoverage(ahead(), paper(), far, 10).energy_ratio, 0.25, 1e-12);
+}
+
+TEST(SegmentCoverage, TheBinaryHeadlightLightsOnlyItsOwnBeam) {
+  // The truly dangerous pedestrian stands beside the lamp (90 deg left), the binary lamp is on for
+  // it; a forward lamp of +-60 deg lights it with no segment and, all segments on, not at all.
+  std::vector<EvalFrame> frames = ahead();
+  for (EvalFrame& f : frames) {
+    f.truth.front().center = Eigen::Vector2d(0.0, 3.0);
+    f.detections.front() = detection(0.0, 3.0, f.detections.front().dangerous);
+  }
+  const SegmentCoverage one = segmentCoverage(frames, paper(), SegmentLampParams(), 10);
+  EXPECT_EQ(one.binary_tp_object_frames, 30u);  // the paper's lamp: every direction
+  EXPECT_EQ(one.outside_beam_object_frames, 0u);
+  const SegmentCoverage forward = segmentCoverage(frames, paper(), evenLamp(8, 120.0, 25.0), 10);
+  EXPECT_EQ(forward.binary_tp_object_frames, 0u);
+  EXPECT_EQ(forward.outside_beam_object_frames, 30u);
+  EXPECT_DOUBLE_EQ(forward.coverage, 1.0);  // nothing the binary headlight lit was left dark
+  // A lamp wide enough to reach it: in the beam, and covered.
+  const SegmentCoverage wide = segmentCoverage(frames, paper(), evenLamp(8, 240.0, 25.0), 10);
+  EXPECT_EQ(wide.binary_tp_object_frames, 30u);
+  EXPECT_EQ(wide.covered_object_frames, 30u);
+}
+
+TEST(SegmentCoverage, DimmingDrawsTheShareTheDistanceNeeds) {
+  SegmentLampParams lamp = evenLamp(8, 120.0, 25.0);
+  lamp.full_power_range_m = 15.5;  // the pedestrian's near face is 7.75 m away: level 1/4
+  ASSERT_EQ(validate(lamp), "");
+  const SegmentCoverage c = segmentCoverage(ahead(), paper(), lamp, 10);
+  EXPECT_DOUBLE_EQ(c.coverage, 1.0);
+  EXPECT_NEAR(c.energy_ratio, 0.25 * 0.25, 1e-6);
 }
 
 }  // namespace

@@ -52,6 +52,16 @@ TEST(LampSegments, ValidationNamesTheSegmentAndKey) {
   p.segment_margin_deg = 2.0;
   p.lamp_position_m.x() = std::numeric_limits<float>::quiet_NaN();
   EXPECT_NE(validate(p).find("lamp_position_m"), std::string::npos);
+  p.lamp_position_m.x() = 0.0f;
+  p.full_power_range_m = -1.0;
+  EXPECT_NE(validate(p).find("full_power_range_m"), std::string::npos);
+  p.full_power_range_m = 20.0;
+  p.min_level = 0.0;
+  EXPECT_NE(validate(p).find("min_level"), std::string::npos);
+  p.min_level = 0.05;
+  EXPECT_EQ(validate(p), "");
+  p.segments = {segment(-10, 10, 3.0, 1.0)};  // a low beam and dimming: one or the other
+  EXPECT_NE(validate(p).find("segments[0].low_watts"), std::string::npos) << validate(p);
   LampSegment s;
   EXPECT_EQ(setSegmentKey(s, "watts", 2.0), "");
   EXPECT_DOUBLE_EQ(s.watts, 2.0);

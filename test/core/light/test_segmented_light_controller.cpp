@@ -133,6 +133,28 @@ TEST(SegmentedLightController, LowBeamForNearObjectsOnly) {
   EXPECT_FLOAT_EQ(h.levels()[4], 1.0f);
 }
 
+TEST(SegmentedLightController, DimmedByDistanceToTheSameIlluminance) {
+  SegmentLampParams lamp = eightSegments();
+  for (auto& s : lamp.segments) s.low_watts = 0.0;
+  lamp.full_power_range_m = 20.0;
+  lamp.min_level = 0.05;
+  SegmentedLightController c(paperParams(), lamp);
+  c.onInput(0.0, {at(10.5, 1.2)}, false);  // near face 10 m (9.95 m to the corner): (10 / 20)^2
+  ASSERT_EQ(lit(c), (std::vector<int>{4}));
+  EXPECT_NEAR(c.levels()[4], 0.25, 0.01);
+  // Illuminance on the object, level / d^2, equals full power's at 20 m.
+  EXPECT_NEAR(c.levels()[4] / (10.0 * 10.0), 1.0 / (20.0 * 20.0), 1e-4);
+  c.onInput(0.5, {at(2.5, 0.5)}, false);  // 2 m away while its timer runs: it keeps the higher level
+  EXPECT_NEAR(c.levels()[4], 0.25, 0.01);
+  c.onInput(2.5, {at(2.5, 0.5)}, false);  // 0.5 s left: restarted, the level this object needs
+  EXPECT_NEAR(c.levels()[4], 0.05, 1e-6);  // (2 / 20)^2 = 0.01, held at the floor
+  c.onInput(2.6, {at(40.0, 4.0)}, false);  // beyond the range: full power
+  EXPECT_FLOAT_EQ(c.levels()[4], 1.0f);
+  // Fail-safe is full power whatever the dimming.
+  c.onInput(3.0, {}, true);
+  for (float level : c.levels()) EXPECT_FLOAT_EQ(level, 1.0f);
+}
+
 TEST(SegmentedLightController, EveryFailSafeLightsEverySegment) {
   LightControllerParams params = paperParams(true);
   params.illumination_enabled = true;

@@ -105,6 +105,8 @@ void visitParams(Reader& r, SegmentLampParams& p) {
   r("lamp_position_m", p.lamp_position_m);
   r("segment_margin_deg", p.segment_margin_deg);
   r("low_beam_below_m", p.low_beam_below_m);
+  r("full_power_range_m", p.full_power_range_m);
+  r("min_level", p.min_level);
 }
 
 // The IlluminationMonitor nodelet's section (illumination_monitor in config/*.yaml).

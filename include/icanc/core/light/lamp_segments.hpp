@@ -8,6 +8,9 @@
 //   lamp_position_m: [x, y, z]   # the lamp in base_link (z unused)
 //   segment_margin_deg: 2.0      # an object's azimuth range is widened by this on both sides
 //   low_beam_below_m: 15.0       # objects nearer than this (from the lamp) need only the low beam
+//   full_power_range_m: 0.0      # > 0: dim a segment to (d / this)^2 of its watts for an object d
+//                                #   away (the same illuminance E = I / d^2 on it as at this range)
+//   min_level: 0.05              #   ... but never below this level (PWM floor)
 #pragma once
 
 #include <cstddef>
@@ -36,7 +39,18 @@ struct SegmentLampParams {
   Eigen::Vector3f lamp_position_m = Eigen::Vector3f::Zero();
   double segment_margin_deg = 2.0;
   double low_beam_below_m = 15.0;
+  // Dimming by distance (PWM per segment), instead of the low beam: 0 = off. An object d metres
+  // from the lamp gets the same illuminance from (d / full_power_range_m)^2 of a segment's power as
+  // an object at full_power_range_m from all of it (inverse-square law); the level is clamped to
+  // [min_level, 1]. A segment's lamp with a low beam (low_watts > 0) cannot dim as well.
+  double full_power_range_m = 0.0;
+  double min_level = 0.05;
 };
+
+// The level (0..1 of a segment's high-beam watts) an object `distance_m` from the lamp needs from
+// a segment: dimmed by distance when full_power_range_m > 0; else low_watts / watts when the
+// segment has a low beam and the object is nearer than low_beam_below_m; else 1. NaN: 1.
+double requiredLevel(const SegmentLampParams& params, const LampSegment& segment, double distance_m);
 
 // Sets one key of a segment entry (a profile's `segments` list); "" or why the key is refused.
 std::string setSegmentKey(LampSegment& segment, const std::string& key, double value);

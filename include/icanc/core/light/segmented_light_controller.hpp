@@ -5,9 +5,9 @@
 //
 // Fail-safe: every segment hears every input, tick and illumination report, so a stale or blind
 // sensor lights all segments, and the daylight gate holds them all, exactly as the single lamp.
-// Level of a lit segment: 1 (high beam), or low_watts / watts (low beam) when the segment has a
-// low beam and every object that lit it since its timer was (re)started is nearer to the lamp
-// than low_beam_below_m. Fail-safe light is always 1.
+// Level of a lit segment: the highest level (requiredLevel: high beam 1, the low beam's
+// low_watts / watts for a near object, or dimmed by distance) any object that lit it needed since
+// its timer was (re)started. Fail-safe light is always 1.
 #pragma once
 
 #include <cstddef>
@@ -47,7 +47,7 @@ class SegmentedLightController {
   SegmentLampParams lamp_;
   std::vector<LampSegment> segments_;
   std::vector<LightController> timers_;
-  std::vector<bool> high_;  // per segment: an object that lit it needs the high beam
+  std::vector<double> level_;  // per segment: the highest level its objects needed since (re)start
   std::size_t unlit_objects_ = 0;
 };
 
