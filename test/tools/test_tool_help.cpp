@@ -32,7 +32,7 @@ Outcome run(const std::string& tool, const std::string& args) {
 const char* const kTools[] = {"icanc_bench",        "icanc_energy",        "icanc_eval",
                               "icanc_kitti2bag",    "icanc_kitti_detect",  "icanc_latency_log",
                               "icanc_montecarlo",   "icanc_overlay_figure", "icanc_sim_bag",
-                              "icanc_summary"};
+                              "icanc_sim_odometry", "icanc_summary"};
 
 TEST(ToolHelp, EveryToolAnswersHelpWithoutAMaster) {
   for (const char* tool : kTools) {
@@ -55,6 +55,7 @@ TEST(ToolHelp, BagToolsRefuseMissingArguments) {
   EXPECT_EQ(run("icanc_kitti2bag", "").status, 2);
   EXPECT_EQ(run("icanc_kitti_detect", "").status, 2);
   EXPECT_EQ(run("icanc_overlay_figure", "").status, 2);
+  EXPECT_EQ(run("icanc_sim_odometry", "").status, 2);
 }
 
 }  // namespace
