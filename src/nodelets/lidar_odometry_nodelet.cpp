@@ -110,9 +110,11 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
           1.0, "cloud stamp went backwards (bag loop?): odometry restarted at identity");
     } else if (stats.result == Result::kDegenerate) {
       NODELET_WARN_THROTTLE(1.0,
-                            "registration degenerate (%zu of %zu points matched): pose from "
-                            "the motion prior",
-                            stats.correspondences, stats.registration_points);
+                            "registration degenerate (%zu of %zu points matched, horizontal "
+                            "observability %.3f, at least %.3f wanted): pose from the motion prior",
+                            stats.correspondences, stats.registration_points,
+                            stats.horizontal_observability,
+                            odometry_->params().min_horizontal_observability);
     } else if (stats.result == Result::kExtrapolated) {
       NODELET_WARN_THROTTLE(1.0, "cloud with %zu usable points (< %d): pose from the motion prior",
                             stats.registration_points, odometry_->params().min_points);

@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
         icanc::kitti::toVelodyne(icanc::kitti::readLabels(dir + "/label_02/0000.txt"), calib);
 
     std::vector<Eigen::Isometry3d> poses;
-    std::vector<double> ms, cpu_ms, down_ms, reg_ms, map_ms, iterations, reg_points, map_points;
+    std::vector<double> ms, cpu_ms, down_ms, reg_ms, map_ms, iterations, reg_points, map_points, observability;
     icanc::Cloud cloud;
     double length = 0.0;
     for (int f = 0; f < max_frames; ++f) {
@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
       iterations.push_back(s.iterations);
       reg_points.push_back(static_cast<double>(s.registration_points));
       map_points.push_back(static_cast<double>(s.map_points));
+      if (s.result == icanc::LidarOdometryStats::Result::kRegistered) observability.push_back(s.horizontal_observability);
       if (!poses.empty()) length += (pose.translation() - poses.back().translation()).norm();
       poses.push_back(pose);
     }
@@ -166,6 +167,8 @@ int main(int argc, char** argv) {
         "iterations %.0f, registration points %.0f, map points %.0f\n",
         percentile(down_ms, 0.5), percentile(reg_ms, 0.5), percentile(map_ms, 0.5),
         percentile(iterations, 0.5), percentile(reg_points, 0.5), percentile(map_points, 0.5));
+    std::printf("horizontal observability (registered frames): min %.3f, p1 %.3f, p50 %.3f\n",
+                percentile(observability, 0.0), percentile(observability, 0.01), percentile(observability, 0.5));
     std::printf("trajectory length %.2f m, end (%.2f, %.2f, %.2f) m, final yaw %.1f deg\n", length,
                 end.x(), end.y(), end.z(), yaw * 180.0 / M_PI);
 

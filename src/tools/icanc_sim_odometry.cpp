@@ -44,7 +44,7 @@ void follow(const std::string& path, bool trace) {
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
   double worst_position = 0.0, worst_yaw = 0.0, worst_speed = 0.0;
   std::size_t registered = 0;
-  std::vector<double> structure, road;
+  std::vector<double> structure, road, observability;
   for (std::size_t f = 0; f < s.frames(); ++f) {
     const double t = double(f) / s.rate_hz;
     icanc::Cloud cloud;
@@ -70,19 +70,24 @@ void follow(const std::string& path, bool trace) {
     if (t >= 1.0)
       worst_speed = std::max(worst_speed, std::fabs(odometry.linearVelocity().x() - s.vehicleTwist(t).linear.x()));
     const auto& stats = odometry.lastStats();
-    registered += stats.result == icanc::LidarOdometryStats::Result::kRegistered;
+    if (stats.result == icanc::LidarOdometryStats::Result::kRegistered) {
+      ++registered;
+      observability.push_back(stats.horizontal_observability);
+    }
     if (trace)
       std::printf("  t %5.1f  estimate (%7.2f %6.2f %6.3f)  truth (%7.2f %6.2f %6.3f)  speed %5.2f / %5.2f  "
-                  "points above / on the road %zu / %zu  %s\n",
+                  "points above / on the road %zu / %zu  observability %.3f  %s\n",
                   t, estimate.translation().x(), estimate.translation().y(), yawOf(estimate),
                   truth.translation().x(), truth.translation().y(), yawOf(truth),
                   odometry.linearVelocity().x(), s.vehicleTwist(t).linear.x(), above, below,
-                  icanc::toString(stats.result));
+                  stats.horizontal_observability, icanc::toString(stats.result));
   }
   std::printf("%s: %zu frames, %zu registered; worst position error %.2f m, yaw %.3f rad, forward speed "
-              "%.2f m/s (after 1 s); returns in range above / on the road, median per frame: %.0f / %.0f\n",
+              "%.2f m/s (after 1 s); returns in range above / on the road, median per frame: %.0f / %.0f; "
+              "horizontal observability median %.3f, min %.3f\n",
               s.name.c_str(), s.frames(), registered, worst_position, worst_yaw, worst_speed,
-              median(structure), median(road));
+              median(structure), median(road), median(observability),
+              observability.empty() ? 0.0 : *std::min_element(observability.begin(), observability.end()));
 }
 
 }  // namespace

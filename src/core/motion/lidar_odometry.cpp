@@ -46,6 +46,8 @@ std::string validate(const LidarOdometryParams& p) {
   if (!std::isfinite(p.ground_max_z_m)) return "ground_max_z_m must be finite";
   if (!(p.min_correspondence_ratio >= 0.0 && p.min_correspondence_ratio <= 1.0))
     return "min_correspondence_ratio must be in [0, 1]";
+  if (!(p.min_horizontal_observability >= 0.0 && p.min_horizontal_observability <= 0.5))
+    return "min_horizontal_observability must be in [0, 0.5] (0: not checked)";
   return "";
 }
 
@@ -311,16 +313,69 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   result.setIdentity();
   result.linear() = Eigen::Quaterniond(rotation).normalized().toRotationMatrix();
   result.translation() = translation;
+  if (matched >= 6) stats_.horizontal_observability = horizontalObservability(result, max_d2);
   // Degenerate: too few matches, a rotation the points cannot observe (all on one line: the
-  // smallest eigenvalue of the information, per unit weight, near zero), or a correction of the
-  // prior no real vehicle makes in one frame.
+  // smallest eigenvalue of the information, per unit weight, near zero), a horizontal direction
+  // no matched surface faces (horizontal_observability), or a correction of the prior no real
+  // vehicle makes in one frame.
   if (matched < 6 || static_cast<double>(matched) < params_.min_correspondence_ratio * n)
     return false;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian,
                                                                        Eigen::EigenvaluesOnly);
   if (!(eig.eigenvalues()(0) > 1e-3 * weight_sum)) return false;
+  // A horizontal direction the matched surfaces do not constrain: ICP slid along it.
+  if (stats_.horizontal_observability < params_.min_horizontal_observability) return false;
   if ((result.translation() - guess.translation()).norm() > params_.max_correction_m) return false;
   return result.matrix().allFinite();
+}
+
+double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, float max_d2) const {
+  const Eigen::Matrix3f r = pose.rotation().cast<float>();
+  const Eigen::Vector3f t = pose.translation().cast<float>();
+  const int per_voxel = params_.max_points_per_voxel;
+  const float inv = inv_map_voxel_;
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  std::size_t used = 0;
+  Eigen::Vector3f block_points[8 * kMaxPointsPerVoxel];
+  for (const Eigen::Vector3f& p : registration_) {
+    const Eigen::Vector3f s = r * p + t;
+    // The 2 x 2 x 2 voxels around s, as registerScan searches them: its match and the neighbours
+    // the plane is fitted to.
+    std::int32_t base[3];
+    for (int k = 0; k < 3; ++k) {
+      const float v = s[k] * inv;
+      const std::int32_t f = floorToInt(v);
+      base[k] = f - (v - static_cast<float>(f) < 0.5f ? 1 : 0);
+    }
+    int count = 0;
+    float best = max_d2;
+    for (int c = 0; c < 8; ++c) {
+      const std::int32_t slot =
+          map_index_.find(packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
+      if (slot < 0) continue;
+      const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
+      for (int j = 0, m = map_counts_[slot]; j < m; ++j) {
+        best = std::min(best, (q[j] - s).squaredNorm());
+        block_points[count++] = q[j];
+      }
+    }
+    if (best >= max_d2 || count < 5) continue;  // unmatched, or too few points for a plane
+    Eigen::Vector3f mean = Eigen::Vector3f::Zero();
+    for (int j = 0; j < count; ++j) mean += block_points[j];
+    mean /= static_cast<float>(count);
+    Eigen::Matrix3f cov = Eigen::Matrix3f::Zero();
+    for (int j = 0; j < count; ++j) {
+      const Eigen::Vector3f d = block_points[j] - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(cov);
+    const Eigen::Vector3d n = eig.eigenvectors().col(0).cast<double>();  // smallest spread: normal
+    info += n * n.transpose();
+    ++used;
+  }
+  if (used == 0) return 0.0;
+  const Eigen::Matrix2d horizontal = info.topLeftCorner<2, 2>() / static_cast<double>(used);
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(horizontal, Eigen::EigenvaluesOnly).eigenvalues()(0);
 }
 
 void LidarOdometry::updateMap(const Eigen::Isometry3d& pose) {

@@ -103,6 +103,38 @@ TEST(LidarOdometry, StraightCorridorDoesNotDiverge) {
   }
   EXPECT_GT(odometry.linearVelocity().x(), -1.0);
   EXPECT_LT(odometry.linearVelocity().x(), 1.5 * 8.0);
+  // And it says so: nothing faces along the corridor, every registration is degenerate.
+  EXPECT_LT(odometry.lastStats().horizontal_observability, 0.05);
+  EXPECT_EQ(odometry.counters().registered, 0u);
+  EXPECT_EQ(odometry.counters().degenerate, 40u);
+}
+
+TEST(LidarOdometry, ObservabilityTellsAStreetFromACorridor) {
+  // The street (buildings with gaps, parked cars, poles across it) constrains both horizontal
+  // directions; its observability stays above the default threshold in every frame.
+  const sim::Scene scene = street();
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(11);
+  double lowest = 1.0;
+  for (int f = 0; f <= 30; ++f) {
+    const double t = 0.1 * f;
+    odometry.registerFrame(t, scanAt(scene, t, truePose(t), rng));
+    if (f > 0) lowest = std::min(lowest, odometry.lastStats().horizontal_observability);
+  }
+  EXPECT_GT(lowest, LidarOdometryParams().min_horizontal_observability);
+  EXPECT_EQ(odometry.counters().degenerate, 0u);
+  // Switched off, the corridor registers (and slides) as before.
+  sim::Scene corridor;
+  corridor.objects.push_back(box(0.0f, 4.5f, 600.0f, 1.0f, 4.0f));
+  corridor.objects.push_back(box(0.0f, -4.5f, 600.0f, 1.0f, 4.0f));
+  LidarOdometryParams unchecked = testParams();
+  unchecked.min_horizontal_observability = 0.0;
+  LidarOdometry sliding(unchecked);
+  for (int f = 0; f <= 10; ++f) {
+    const double t = 0.1 * f;
+    sliding.registerFrame(t, scanAt(corridor, t, truePose(t, 8.0, false), rng));
+  }
+  EXPECT_EQ(sliding.counters().degenerate, 0u);
 }
 
 TEST(LidarOdometry, TimeGoingBackwardsResets) {
@@ -222,6 +254,10 @@ TEST(LidarOdometry, ParametersAreChecked) {
             }).find("min_correspondence_ratio"),
             std::string::npos);
   EXPECT_NE(why([](LidarOdometryParams& p) { p.max_dt_s = std::nan(""); }).find("max_dt_s"),
+            std::string::npos);
+  EXPECT_NE(why([](LidarOdometryParams& p) {
+              p.min_horizontal_observability = 0.6;
+            }).find("min_horizontal_observability"),
             std::string::npos);
   LidarOdometryParams bad;
   bad.voxel_m = -1.0;

@@ -52,6 +52,10 @@ struct LidarOdometryParams {
   int min_points = 50;                    // fewer registration points: pose extrapolated
   double min_correspondence_ratio = 0.2;  // fewer matched points than this share: degenerate
   double max_correction_m = 3.0;          // larger correction of the prior per frame: degenerate
+  // Fewer matched points constraining the weakest horizontal direction than this share
+  // (LidarOdometryStats::horizontal_observability): degenerate. A road with walls along it only
+  // lets ICP slide and report "not moving"; KITTI 0000's street: 0.197 at least, 0.257 median.
+  double min_horizontal_observability = 0.12;
   double max_dt_s = 1.0;                  // longer gap between clouds: motion prior dropped [s]
 };
 
@@ -80,6 +84,7 @@ void visitParams(Reader& r, LidarOdometryParams& p) {
   r("min_points", p.min_points);
   r("min_correspondence_ratio", p.min_correspondence_ratio);
   r("max_correction_m", p.max_correction_m);
+  r("min_horizontal_observability", p.min_horizontal_observability);
   r("max_dt_s", p.max_dt_s);
 }
 
@@ -98,6 +103,11 @@ struct LidarOdometryStats {
   std::size_t correspondences = 0;      // matched in the last iteration
   std::size_t map_points = 0;
   int iterations = 0;
+  // Of the matched points at the result, the share that constrains the registration's weakest
+  // horizontal direction: the smallest eigenvalue of the x-y block of mean(n n^T), n the map's
+  // surface normal at each match (plane fit of its neighbourhood). A flat road or walls along one
+  // direction leave it near 0 (ICP slides); a street with structure across it does not.
+  double horizontal_observability = 0.0;
   double threshold_m = 0.0;  // adaptive sigma used this frame
   double downsample_ms = 0.0, register_ms = 0.0, map_ms = 0.0;
   double totalMs() const { return downsample_ms + register_ms + map_ms; }
@@ -203,6 +213,9 @@ class LidarOdometry {
   void selectRegistrationPoints();
   // ICP from `guess`; false when the result is degenerate.
   bool registerScan(const Eigen::Isometry3d& guess, double sigma, Eigen::Isometry3d& result);
+  // LidarOdometryStats::horizontal_observability of the registration points at `pose`, matches
+  // within sqrt(max_d2).
+  double horizontalObservability(const Eigen::Isometry3d& pose, float max_d2) const;
   void updateMap(const Eigen::Isometry3d& pose);
   void pruneMap(const Eigen::Vector3d& origin);
   double adaptiveThreshold() const;
