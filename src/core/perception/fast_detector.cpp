@@ -38,6 +38,12 @@ std::string validate(const FastDetectorParams& p) {
   } else if (!(p.max_height_m > p.obstacle_height_m && p.max_height_m <= 20.0f)) {
     why << "fast.max_height_m must be in (fast.obstacle_height_m, 20] (got " << p.max_height_m
         << ")";
+  } else if (!(p.overhang_gap_m >= 0.0f && p.overhang_gap_m <= 5.0f)) {
+    why << "fast.overhang_gap_m must be in [0, 5] (got " << p.overhang_gap_m << ")";
+  } else if (!(p.overhang_min_height_m >= p.obstacle_height_m &&
+               p.overhang_min_height_m <= p.max_height_m)) {
+    why << "fast.overhang_min_height_m must be in [fast.obstacle_height_m, fast.max_height_m] (got "
+        << p.overhang_min_height_m << ")";
   } else if (p.min_points < 1) {
     why << "fast.min_points must be >= 1 (got " << p.min_points << ")";
   } else if (p.max_points < p.min_points) {
@@ -104,11 +110,14 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
   polar_ground_.assign(polar_min_z_.size(), 0.0f);
   cell_min_z_.assign(polar_of_cell_.size(), kInf);
   cells_.resize(polar_of_cell_.size());
+  cut_z_.assign(polar_of_cell_.size(), kInf);
 }
 
 std::size_t FastDetector::capacityBytes() const {
   return polar_of_cell_.capacity() * sizeof(std::int32_t) + points_.capacity() * sizeof(Kept) +
-         (cell_min_z_.capacity() + polar_min_z_.capacity() + polar_ground_.capacity() + near_lows_.capacity()) * sizeof(float) +
+         (cell_min_z_.capacity() + polar_min_z_.capacity() + polar_ground_.capacity() +
+          near_lows_.capacity() + cut_z_.capacity()) * sizeof(float) +
+         (cut_cells_.capacity() + high_.capacity()) * sizeof(std::int32_t) +
          cells_.capacity() * sizeof(Cell) +
          (occupied_.capacity() + parent_.capacity() + next_in_cluster_.capacity() +
           cluster_of_root_.capacity()) * sizeof(std::int32_t) +
@@ -211,31 +220,67 @@ void FastDetector::estimateGround() {
   }
 }
 
+void FastDetector::addObstacle(const Kept& p) {
+  ++obstacle_points_;
+  Cell& c = cells_[p.cell];
+  if (c.count == 0) {
+    c.slot = static_cast<std::int32_t>(occupied_.size());
+    occupied_.push_back(static_cast<std::int32_t>(p.cell));
+    c.zmin = c.zmax = p.z;
+    c.xmin_x = c.xmax_x = c.ymin_x = c.ymax_x = p.x;
+    c.xmin_y = c.xmax_y = c.ymin_y = c.ymax_y = p.y;
+  } else {
+    c.zmin = std::min(c.zmin, p.z);
+    c.zmax = std::max(c.zmax, p.z);
+    if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
+    if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
+    if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
+    if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
+  }
+  ++c.count;
+}
+
 void FastDetector::markObstacles() {
   occupied_.clear();
   obstacle_points_ = 0;
+  for (std::int32_t cell : cut_cells_) cut_z_[static_cast<std::size_t>(cell)] = kInf;
+  cut_cells_.clear();
+  high_.clear();
   const float lo = params_.obstacle_height_m, hi = params_.max_height_m;
+  const float gap = params_.overhang_gap_m;
+  const float high = gap > 0.0f ? params_.overhang_min_height_m : kInf;
   for (std::size_t i = 0; i < kept_; ++i) {
     const Kept& p = points_[i];
     const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
     if (h < lo || h > hi) continue;
-    ++obstacle_points_;
-    Cell& c = cells_[p.cell];
-    if (c.count == 0) {
-      c.slot = static_cast<std::int32_t>(occupied_.size());
-      occupied_.push_back(static_cast<std::int32_t>(p.cell));
-      c.zmin = c.zmax = p.z;
-      c.xmin_x = c.xmax_x = c.ymin_x = c.ymax_x = p.x;
-      c.xmin_y = c.xmax_y = c.ymin_y = c.ymax_y = p.y;
-    } else {
-      c.zmin = std::min(c.zmin, p.z);
-      c.zmax = std::max(c.zmax, p.z);
-      if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
-      if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
-      if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
-      if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
+    if (h >= high) {
+      high_.push_back(static_cast<std::uint32_t>(i));  // decided below, per cell
+      continue;
     }
-    ++c.count;
+    addObstacle(p);
+  }
+  if (high_.empty()) return;
+  // The high points of a cell are an overhang when the lowest of them is at least `gap` above
+  // the top of what stands in the cell below overhang_min_height_m (or, nothing there, above
+  // obstacle_height_m): a roof over a pedestrian's head, a canopy over the road. Otherwise they
+  // are the top of what stands there (a van, a wall, a tree trunk) and join it.
+  for (std::uint32_t i : high_) {
+    const Kept& p = points_[i];
+    float& cut = cut_z_[p.cell];
+    if (cut == kInf) cut_cells_.push_back(static_cast<std::int32_t>(p.cell));
+    cut = std::min(cut, p.z);
+  }
+  for (std::int32_t cell : cut_cells_) {
+    const Cell& c = cells_[static_cast<std::size_t>(cell)];
+    const float below =
+        c.count > 0 ? c.zmax
+                    : polar_ground_[static_cast<std::size_t>(polar_of_cell_[cell])] + lo;
+    float& cut = cut_z_[static_cast<std::size_t>(cell)];
+    if (cut - below < gap) cut = kInf;
+  }
+  for (std::uint32_t i : high_) {
+    const Kept& p = points_[i];
+    if (p.z < cut_z_[p.cell]) addObstacle(p);
   }
 }
 
@@ -248,7 +293,7 @@ void FastDetector::splitPoints(Cloud& ground, Cloud& obstacles) const {
     const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
     if (h < lo)
       ground.push_back(Point(p.x, p.y, p.z));
-    else if (h <= hi)
+    else if (h <= hi && p.z < cut_z_[p.cell])  // not an overhang
       obstacles.push_back(Point(p.x, p.y, p.z));
   }
 }

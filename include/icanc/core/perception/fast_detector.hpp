@@ -10,7 +10,11 @@
 //     max_slope_deg (plus ground_step_m), or when it is lower (a drop of more than ground_step_m
 //     only when the next bin with returns confirms it, so one return below the floor does not
 //     drag the ground down); otherwise the previous ground height carries on. A point is an
-//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground.
+//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground, unless it
+//     belongs to an overhang: at least overhang_min_height_m up, with at least overhang_gap_m of
+//     empty height under it in its BEV cell (down to the top of what stands below, or to
+//     obstacle_height_m). A shelter roof over a pedestrian then joins neither the pedestrian nor
+//     (where nothing stands under it) anything at all; a canopy over an empty road is no obstacle.
 //  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find
 //     over the occupied cells only); a component longer than step_check_min_extent_m (a wall, a
 //     hedge, and what stands against it) is linked again only between cells whose highest points
@@ -60,6 +64,13 @@ struct FastDetectorParams {
   float ground_step_m = 0.15f;      // plus this step (kerbs, noise) [m]
   float obstacle_height_m = 0.3f;   // a point this far above its ground is an obstacle [m]
   float max_height_m = 3.0f;        // ... up to this height (branches, bridges above) [m]
+  float overhang_gap_m = 0.3f;      // obstacle points at least overhang_min_height_m above their
+                                    // ground with at least this much empty height under them in
+                                    // their cell (down to the top of what stands below, or to
+                                    // obstacle_height_m) are an overhang (a shelter roof, a canopy,
+                                    // a bridge deck), not an obstacle; 0: off [m]
+  float overhang_min_height_m = 2.0f;  // overhangs start this high: below, a gap between rows of
+                                    // a sparse scan on a pedestrian never counts [m]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
 };
@@ -94,8 +105,8 @@ class FastDetector {
   std::size_t obstaclePoints() const { return obstacle_points_; }
   // The last frame's kept points split by their height above the ground under them: `ground`
   // below obstacle_height_m, `obstacles` obstacle_height_m .. max_height_m (what the clusters are
-  // made of); points higher up are in neither. Both are cleared first. Built only when called
-  // (debug clouds): detect() does none of this work.
+  // made of); points higher up, and overhangs, are in neither. Both are cleared first. Built only
+  // when called (debug clouds): detect() does none of this work.
   void splitPoints(Cloud& ground, Cloud& obstacles) const;
 
   // Bytes held by the reusable buffers (capacities): stable in steady state.
@@ -132,6 +143,7 @@ class FastDetector {
   void finishFrame(std::vector<Box3D>& boxes, FastStageTimes* times, double prep_ms);
   void estimateGround();
   void markObstacles();
+  inline void addObstacle(const Kept& p);  // into its BEV cell's accumulator
   void linkCells(bool check_steps);  // union-find over occupied_ into parent_
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
@@ -158,6 +170,11 @@ class FastDetector {
   std::vector<float> polar_ground_;
   std::vector<float> near_lows_;             // scratch: lowest z of the bins near the vehicle
   std::vector<Cell> cells_;
+  // Per BEV cell: points at or above this z are an overhang (+inf: none). Set for the cells in
+  // cut_cells_, which the next frame resets; read again by splitPoints.
+  std::vector<float> cut_z_;
+  std::vector<std::int32_t> cut_cells_;
+  std::vector<std::uint32_t> high_;          // scratch: points overhang_min_height_m up or more
   std::vector<std::int32_t> occupied_;       // occupied BEV cells this frame
   std::vector<std::int32_t> parent_;         // union-find over occupied_ slots
   std::vector<std::int32_t> next_in_cluster_;
