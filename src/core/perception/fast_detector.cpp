@@ -227,6 +227,7 @@ void FastDetector::addObstacle(const Kept& p) {
     c.slot = static_cast<std::int32_t>(occupied_.size());
     occupied_.push_back(static_cast<std::int32_t>(p.cell));
     c.zmin = c.zmax = p.z;
+    c.floor = -kInf;
     c.xmin_x = c.xmax_x = c.ymin_x = c.ymax_x = p.x;
     c.xmin_y = c.xmax_y = c.ymin_y = c.ymax_y = p.y;
   } else {
@@ -260,10 +261,13 @@ void FastDetector::markObstacles() {
     addObstacle(p);
   }
   if (high_.empty()) return;
-  // The high points of a cell are an overhang when the lowest of them is at least `gap` above
-  // the top of what stands in the cell below overhang_min_height_m (or, nothing there, above
-  // obstacle_height_m): a roof over a pedestrian's head, a canopy over the road. Otherwise they
-  // are the top of what stands there (a van, a wall, a tree trunk) and join it.
+  // The high points of a cell that holds something lower are an overhang when the lowest of them
+  // is at least `gap` above the top of what stands there (a roof over a pedestrian's head, a
+  // canopy over a car); otherwise they are its top (a van, a wall, a tree) and join it. A cell of
+  // high points only is kept: it is a floating cell, linked only to cells that reach up to it
+  // (linkCells), and a cluster of floating cells only is no obstacle (clusterAndFit). Dropping
+  // them here instead lost walls whose lower part a pedestrian hid from a low sensor
+  // (indoor_cluttered_course: the wall split into fragments, false danger 7 -> 13).
   for (std::uint32_t i : high_) {
     const Kept& p = points_[i];
     float& cut = cut_z_[p.cell];
@@ -272,15 +276,19 @@ void FastDetector::markObstacles() {
   }
   for (std::int32_t cell : cut_cells_) {
     const Cell& c = cells_[static_cast<std::size_t>(cell)];
-    const float below =
-        c.count > 0 ? c.zmax
-                    : polar_ground_[static_cast<std::size_t>(polar_of_cell_[cell])] + lo;
     float& cut = cut_z_[static_cast<std::size_t>(cell)];
-    if (cut - below < gap) cut = kInf;
+    if (c.count == 0 || cut - c.zmax < gap) cut = kInf;
   }
   for (std::uint32_t i : high_) {
     const Kept& p = points_[i];
     if (p.z < cut_z_[p.cell]) addObstacle(p);
+  }
+  // Floating cells: every point at least overhang_min_height_m up.
+  for (std::int32_t cell : cut_cells_) {
+    Cell& c = cells_[static_cast<std::size_t>(cell)];
+    if (c.count > 0 &&
+        c.zmin - polar_ground_[static_cast<std::size_t>(polar_of_cell_[cell])] >= high)
+      c.floor = c.zmin;
   }
 }
 
@@ -311,6 +319,7 @@ void FastDetector::linkCells(bool check_steps) {
   parent_.resize(occupied_.size());
   std::iota(parent_.begin(), parent_.end(), 0);
   const float max_step = params_.link_max_step_m;
+  const float gap = params_.overhang_gap_m;
   for (std::int32_t k = 0; k < n; ++k) {
     const int cell = occupied_[k];
     const int cx = cell % nx_, cy = cell / nx_;
@@ -322,6 +331,9 @@ void FastDetector::linkCells(bool check_steps) {
       const Cell& other = cells_[static_cast<std::size_t>(y) * nx_ + x];
       if (other.count == 0) continue;
       if (check && std::abs(other.zmax - here.zmax) > max_step) continue;
+      // A floating cell (floor > -inf) joins only what reaches up to within `gap` of it: a roof
+      // does not join the pedestrian under it, a wall's top the wall.
+      if (std::max(here.floor, other.floor) - std::min(here.zmax, other.zmax) >= gap) continue;
       const std::int32_t a = find(k), b = find(other.slot);
       if (a != b) parent_[std::max(a, b)] = std::min(a, b);
     }
@@ -394,6 +406,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
     Cluster& c = clusters_[cluster_of_root_[root]];
     const Cell& cell = cells_[occupied_[k]];
     c.count += cell.count;
+    c.grounded = c.grounded || cell.floor == -kInf;
     c.zmin = std::min(c.zmin, cell.zmin);
     c.zmax = std::max(c.zmax, cell.zmax);
     next_in_cluster_[k] = c.first_cell;
@@ -402,6 +415,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
 
   for (const Cluster& c : clusters_) {
     if (c.count < params_.min_points || c.count > params_.max_points) continue;
+    if (!c.grounded) continue;  // floating cells only: an overhang (a canopy over the road)
     footprint_.clear();
     for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
       const Cell& cell = cells_[occupied_[k]];

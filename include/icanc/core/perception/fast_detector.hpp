@@ -10,11 +10,12 @@
 //     max_slope_deg (plus ground_step_m), or when it is lower (a drop of more than ground_step_m
 //     only when the next bin with returns confirms it, so one return below the floor does not
 //     drag the ground down); otherwise the previous ground height carries on. A point is an
-//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground, unless it
-//     belongs to an overhang: at least overhang_min_height_m up, with at least overhang_gap_m of
-//     empty height under it in its BEV cell (down to the top of what stands below, or to
-//     obstacle_height_m). A shelter roof over a pedestrian then joins neither the pedestrian nor
-//     (where nothing stands under it) anything at all; a canopy over an empty road is no obstacle.
+//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground. Overhangs:
+//     points at least overhang_min_height_m up at least overhang_gap_m above the top of what
+//     stands lower in their BEV cell are dropped; a cell whose points are all that high is
+//     floating: it links only to cells reaching up to within overhang_gap_m of it, and a cluster
+//     of floating cells only is no obstacle. A shelter roof then joins the wall that carries it
+//     but not the pedestrian under it; a canopy over an empty road is no obstacle.
 //  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find
 //     over the occupied cells only); a component longer than step_check_min_extent_m (a wall, a
 //     hedge, and what stands against it) is linked again only between cells whose highest points
@@ -64,12 +65,12 @@ struct FastDetectorParams {
   float ground_step_m = 0.15f;      // plus this step (kerbs, noise) [m]
   float obstacle_height_m = 0.3f;   // a point this far above its ground is an obstacle [m]
   float max_height_m = 3.0f;        // ... up to this height (branches, bridges above) [m]
-  float overhang_gap_m = 0.3f;      // obstacle points at least overhang_min_height_m above their
-                                    // ground with at least this much empty height under them in
-                                    // their cell (down to the top of what stands below, or to
-                                    // obstacle_height_m) are an overhang (a shelter roof, a canopy,
-                                    // a bridge deck), not an obstacle; 0: off [m]
-  float overhang_min_height_m = 2.0f;  // overhangs start this high: below, a gap between rows of
+  float overhang_gap_m = 0.3f;      // points at least overhang_min_height_m above their ground
+                                    // this far above what stands lower in their cell are an
+                                    // overhang (a shelter roof, a canopy), dropped; cells of such
+                                    // points only join cells reaching up to within this, and
+                                    // alone are no obstacle; 0: off [m]
+  float overhang_min_height_m = 2.3f;  // overhangs start this high: below, a gap between rows of
                                     // a sparse scan on a pedestrian never counts [m]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
@@ -121,10 +122,12 @@ class FastDetector {
     std::int32_t count = 0;
     std::int32_t slot = -1;  // index into occupied_
     float zmin, zmax;
+    float floor;             // zmin when every point is overhang_min_height_m up, else -inf
     float xmin_x, xmin_y, xmax_x, xmax_y, ymin_x, ymin_y, ymax_x, ymax_y;  // extreme points
   };
   struct Cluster {
     std::int32_t count = 0;
+    bool grounded = false;  // holds a cell that is not floating
     float zmin, zmax, xmin, xmax, ymin, ymax;
     std::int32_t first_cell = -1;  // linked list of its cells through next_in_cluster_
   };
