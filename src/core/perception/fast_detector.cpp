@@ -38,6 +38,12 @@ std::string validate(const FastDetectorParams& p) {
   } else if (!(p.max_height_m > p.obstacle_height_m && p.max_height_m <= 20.0f)) {
     why << "fast.max_height_m must be in (fast.obstacle_height_m, 20] (got " << p.max_height_m
         << ")";
+  } else if (!(p.overhang_gap_m >= 0.0f && p.overhang_gap_m <= 5.0f)) {
+    why << "fast.overhang_gap_m must be in [0, 5] (got " << p.overhang_gap_m << ")";
+  } else if (!(p.overhang_min_height_m >= p.obstacle_height_m &&
+               p.overhang_min_height_m <= p.max_height_m)) {
+    why << "fast.overhang_min_height_m must be in [fast.obstacle_height_m, fast.max_height_m] (got "
+        << p.overhang_min_height_m << ")";
   } else if (p.min_points < 1) {
     why << "fast.min_points must be >= 1 (got " << p.min_points << ")";
   } else if (p.max_points < p.min_points) {
@@ -104,11 +110,14 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
   polar_ground_.assign(polar_min_z_.size(), 0.0f);
   cell_min_z_.assign(polar_of_cell_.size(), kInf);
   cells_.resize(polar_of_cell_.size());
+  cut_z_.assign(polar_of_cell_.size(), kInf);
 }
 
 std::size_t FastDetector::capacityBytes() const {
   return polar_of_cell_.capacity() * sizeof(std::int32_t) + points_.capacity() * sizeof(Kept) +
-         (cell_min_z_.capacity() + polar_min_z_.capacity() + polar_ground_.capacity() + near_lows_.capacity()) * sizeof(float) +
+         (cell_min_z_.capacity() + polar_min_z_.capacity() + polar_ground_.capacity() +
+          near_lows_.capacity() + cut_z_.capacity()) * sizeof(float) +
+         (cut_cells_.capacity() + high_.capacity()) * sizeof(std::int32_t) +
          cells_.capacity() * sizeof(Cell) +
          (occupied_.capacity() + parent_.capacity() + next_in_cluster_.capacity() +
           cluster_of_root_.capacity()) * sizeof(std::int32_t) +
@@ -211,31 +220,75 @@ void FastDetector::estimateGround() {
   }
 }
 
+void FastDetector::addObstacle(const Kept& p) {
+  ++obstacle_points_;
+  Cell& c = cells_[p.cell];
+  if (c.count == 0) {
+    c.slot = static_cast<std::int32_t>(occupied_.size());
+    occupied_.push_back(static_cast<std::int32_t>(p.cell));
+    c.zmin = c.zmax = p.z;
+    c.floor = -kInf;
+    c.xmin_x = c.xmax_x = c.ymin_x = c.ymax_x = p.x;
+    c.xmin_y = c.xmax_y = c.ymin_y = c.ymax_y = p.y;
+  } else {
+    c.zmin = std::min(c.zmin, p.z);
+    c.zmax = std::max(c.zmax, p.z);
+    if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
+    if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
+    if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
+    if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
+  }
+  ++c.count;
+}
+
 void FastDetector::markObstacles() {
   occupied_.clear();
   obstacle_points_ = 0;
+  for (std::int32_t cell : cut_cells_) cut_z_[static_cast<std::size_t>(cell)] = kInf;
+  cut_cells_.clear();
+  high_.clear();
   const float lo = params_.obstacle_height_m, hi = params_.max_height_m;
+  const float gap = params_.overhang_gap_m;
+  const float high = gap > 0.0f ? params_.overhang_min_height_m : kInf;
   for (std::size_t i = 0; i < kept_; ++i) {
     const Kept& p = points_[i];
     const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
     if (h < lo || h > hi) continue;
-    ++obstacle_points_;
-    Cell& c = cells_[p.cell];
-    if (c.count == 0) {
-      c.slot = static_cast<std::int32_t>(occupied_.size());
-      occupied_.push_back(static_cast<std::int32_t>(p.cell));
-      c.zmin = c.zmax = p.z;
-      c.xmin_x = c.xmax_x = c.ymin_x = c.ymax_x = p.x;
-      c.xmin_y = c.xmax_y = c.ymin_y = c.ymax_y = p.y;
-    } else {
-      c.zmin = std::min(c.zmin, p.z);
-      c.zmax = std::max(c.zmax, p.z);
-      if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
-      if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
-      if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
-      if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
+    if (h >= high) {
+      high_.push_back(static_cast<std::uint32_t>(i));  // decided below, per cell
+      continue;
     }
-    ++c.count;
+    addObstacle(p);
+  }
+  if (high_.empty()) return;
+  // The high points of a cell that holds something lower are an overhang when the lowest of them
+  // is at least `gap` above the top of what stands there (a roof over a pedestrian's head, a
+  // canopy over a car); otherwise they are its top (a van, a wall, a tree) and join it. A cell of
+  // high points only is kept: it is a floating cell, linked only to cells that reach up to it
+  // (linkCells), and a cluster of floating cells only is no obstacle (clusterAndFit). Dropping
+  // them here instead lost walls whose lower part a pedestrian hid from a low sensor
+  // (indoor_cluttered_course: the wall split into fragments, false danger 7 -> 13).
+  for (std::uint32_t i : high_) {
+    const Kept& p = points_[i];
+    float& cut = cut_z_[p.cell];
+    if (cut == kInf) cut_cells_.push_back(static_cast<std::int32_t>(p.cell));
+    cut = std::min(cut, p.z);
+  }
+  for (std::int32_t cell : cut_cells_) {
+    const Cell& c = cells_[static_cast<std::size_t>(cell)];
+    float& cut = cut_z_[static_cast<std::size_t>(cell)];
+    if (c.count == 0 || cut - c.zmax < gap) cut = kInf;
+  }
+  for (std::uint32_t i : high_) {
+    const Kept& p = points_[i];
+    if (p.z < cut_z_[p.cell]) addObstacle(p);
+  }
+  // Floating cells: every point at least overhang_min_height_m up.
+  for (std::int32_t cell : cut_cells_) {
+    Cell& c = cells_[static_cast<std::size_t>(cell)];
+    if (c.count > 0 &&
+        c.zmin - polar_ground_[static_cast<std::size_t>(polar_of_cell_[cell])] >= high)
+      c.floor = c.zmin;
   }
 }
 
@@ -248,7 +301,7 @@ void FastDetector::splitPoints(Cloud& ground, Cloud& obstacles) const {
     const float h = p.z - polar_ground_[static_cast<std::size_t>(polar_of_cell_[p.cell])];
     if (h < lo)
       ground.push_back(Point(p.x, p.y, p.z));
-    else if (h <= hi)
+    else if (h <= hi && p.z < cut_z_[p.cell])  // not an overhang
       obstacles.push_back(Point(p.x, p.y, p.z));
   }
 }
@@ -266,6 +319,7 @@ void FastDetector::linkCells(bool check_steps) {
   parent_.resize(occupied_.size());
   std::iota(parent_.begin(), parent_.end(), 0);
   const float max_step = params_.link_max_step_m;
+  const float gap = params_.overhang_gap_m;
   for (std::int32_t k = 0; k < n; ++k) {
     const int cell = occupied_[k];
     const int cx = cell % nx_, cy = cell / nx_;
@@ -277,6 +331,9 @@ void FastDetector::linkCells(bool check_steps) {
       const Cell& other = cells_[static_cast<std::size_t>(y) * nx_ + x];
       if (other.count == 0) continue;
       if (check && std::abs(other.zmax - here.zmax) > max_step) continue;
+      // A floating cell (floor > -inf) joins only what reaches up to within `gap` of it: a roof
+      // does not join the pedestrian under it, a wall's top the wall.
+      if (std::max(here.floor, other.floor) - std::min(here.zmax, other.zmax) >= gap) continue;
       const std::int32_t a = find(k), b = find(other.slot);
       if (a != b) parent_[std::max(a, b)] = std::min(a, b);
     }
@@ -349,6 +406,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
     Cluster& c = clusters_[cluster_of_root_[root]];
     const Cell& cell = cells_[occupied_[k]];
     c.count += cell.count;
+    c.grounded = c.grounded || cell.floor == -kInf;
     c.zmin = std::min(c.zmin, cell.zmin);
     c.zmax = std::max(c.zmax, cell.zmax);
     next_in_cluster_[k] = c.first_cell;
@@ -357,6 +415,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
 
   for (const Cluster& c : clusters_) {
     if (c.count < params_.min_points || c.count > params_.max_points) continue;
+    if (!c.grounded) continue;  // floating cells only: an overhang (a canopy over the road)
     footprint_.clear();
     for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
       const Cell& cell = cells_[occupied_[k]];

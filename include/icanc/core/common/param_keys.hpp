@@ -61,6 +61,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("fast/ground_step_m", p.fast.ground_step_m);
   r("fast/obstacle_height_m", p.fast.obstacle_height_m);
   r("fast/max_height_m", p.fast.max_height_m);
+  r("fast/overhang_gap_m", p.fast.overhang_gap_m);
+  r("fast/overhang_min_height_m", p.fast.overhang_min_height_m);
   r("fast/min_points", p.fast.min_points);
   r("fast/max_points", p.fast.max_points);
 }

@@ -10,7 +10,12 @@
 //     max_slope_deg (plus ground_step_m), or when it is lower (a drop of more than ground_step_m
 //     only when the next bin with returns confirms it, so one return below the floor does not
 //     drag the ground down); otherwise the previous ground height carries on. A point is an
-//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground.
+//     obstacle when it lies obstacle_height_m .. max_height_m above its cell's ground. Overhangs:
+//     points at least overhang_min_height_m up at least overhang_gap_m above the top of what
+//     stands lower in their BEV cell are dropped; a cell whose points are all that high is
+//     floating: it links only to cells reaching up to within overhang_gap_m of it, and a cluster
+//     of floating cells only is no obstacle. A shelter roof then joins the wall that carries it
+//     but not the pedestrian under it; a canopy over an empty road is no obstacle.
 //  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find
 //     over the occupied cells only); a component longer than step_check_min_extent_m (a wall, a
 //     hedge, and what stands against it) is linked again only between cells whose highest points
@@ -60,6 +65,13 @@ struct FastDetectorParams {
   float ground_step_m = 0.15f;      // plus this step (kerbs, noise) [m]
   float obstacle_height_m = 0.3f;   // a point this far above its ground is an obstacle [m]
   float max_height_m = 3.0f;        // ... up to this height (branches, bridges above) [m]
+  float overhang_gap_m = 0.3f;      // points at least overhang_min_height_m above their ground
+                                    // this far above what stands lower in their cell are an
+                                    // overhang (a shelter roof, a canopy), dropped; cells of such
+                                    // points only join cells reaching up to within this, and
+                                    // alone are no obstacle; 0: off [m]
+  float overhang_min_height_m = 2.3f;  // overhangs start this high: below, a gap between rows of
+                                    // a sparse scan on a pedestrian never counts [m]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
 };
@@ -94,8 +106,8 @@ class FastDetector {
   std::size_t obstaclePoints() const { return obstacle_points_; }
   // The last frame's kept points split by their height above the ground under them: `ground`
   // below obstacle_height_m, `obstacles` obstacle_height_m .. max_height_m (what the clusters are
-  // made of); points higher up are in neither. Both are cleared first. Built only when called
-  // (debug clouds): detect() does none of this work.
+  // made of); points higher up, and overhangs, are in neither. Both are cleared first. Built only
+  // when called (debug clouds): detect() does none of this work.
   void splitPoints(Cloud& ground, Cloud& obstacles) const;
 
   // Bytes held by the reusable buffers (capacities): stable in steady state.
@@ -110,10 +122,12 @@ class FastDetector {
     std::int32_t count = 0;
     std::int32_t slot = -1;  // index into occupied_
     float zmin, zmax;
+    float floor;             // zmin when every point is overhang_min_height_m up, else -inf
     float xmin_x, xmin_y, xmax_x, xmax_y, ymin_x, ymin_y, ymax_x, ymax_y;  // extreme points
   };
   struct Cluster {
     std::int32_t count = 0;
+    bool grounded = false;  // holds a cell that is not floating
     float zmin, zmax, xmin, xmax, ymin, ymax;
     std::int32_t first_cell = -1;  // linked list of its cells through next_in_cluster_
   };
@@ -132,6 +146,7 @@ class FastDetector {
   void finishFrame(std::vector<Box3D>& boxes, FastStageTimes* times, double prep_ms);
   void estimateGround();
   void markObstacles();
+  inline void addObstacle(const Kept& p);  // into its BEV cell's accumulator
   void linkCells(bool check_steps);  // union-find over occupied_ into parent_
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
@@ -158,6 +173,11 @@ class FastDetector {
   std::vector<float> polar_ground_;
   std::vector<float> near_lows_;             // scratch: lowest z of the bins near the vehicle
   std::vector<Cell> cells_;
+  // Per BEV cell: points at or above this z are an overhang (+inf: none). Set for the cells in
+  // cut_cells_, which the next frame resets; read again by splitPoints.
+  std::vector<float> cut_z_;
+  std::vector<std::int32_t> cut_cells_;
+  std::vector<std::uint32_t> high_;          // scratch: points overhang_min_height_m up or more
   std::vector<std::int32_t> occupied_;       // occupied BEV cells this frame
   std::vector<std::int32_t> parent_;         // union-find over occupied_ slots
   std::vector<std::int32_t> next_in_cluster_;
