@@ -61,6 +61,8 @@ std::string validate(const DangerParams& params) {
   else if (!(params.max_heading_change_rad >= 0.0 && params.max_heading_change_rad <= M_PI))
     why << "danger.max_heading_change_rad must be in [0, pi] (0: no cap; got "
         << params.max_heading_change_rad << ")";
+  else if (params.motion_min_hits < 0 || params.motion_min_hits > 1000)
+    why << "danger.motion_min_hits must be in [0, 1000] (0: off; got " << params.motion_min_hits << ")";
   else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
     why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
   else if (params.on_frames < 1)
@@ -108,17 +110,24 @@ double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector
   return closestPoint(aabb_min, aabb_max).norm();
 }
 
-double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
+bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
+  return object.hits > 0 && object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
+}
+
+double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params,
+                               MotionHypothesis motion) {
+  const bool measured = motion == MotionHypothesis::kMeasured;
   const double half_width = params.half_width_m + params.margin_m;
   const double length = params.vehicle_front_m + params.stopping_margin_m;
-  const auto sigmaOf = [](double s) { return std::isfinite(s) ? std::max(0.0, s) : 0.0; };
+  const auto sigmaOf = [&](double s) { return measured && std::isfinite(s) ? std::max(0.0, s) : 0.0; };
   const double sigma_x = sigmaOf(object.velocity_std.x()), sigma_y = sigmaOf(object.velocity_std.y());
   // The object's velocity over ground: its relative velocity plus the velocity of the
-  // vehicle-fixed point where it is (relativeVelocity's inverse, planar).
+  // vehicle-fixed point where it is (relativeVelocity's inverse, planar); zero when it stands still.
   const Eigen::Vector2d ego_v = object.ego_velocity;
   const double ego_w = object.ego_yaw_rate;
-  Eigen::Vector2d ground_v = object.velocity.head<2>() + ego_v +
-                             ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  Eigen::Vector2d ground_v = Eigen::Vector2d::Zero();
+  if (measured)
+    ground_v = object.velocity.head<2>() + ego_v + ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
   // The static-world prior: each axis shrunk toward zero by k sigma (soft threshold).
   const Eigen::Vector2d shrink = params.static_prior_k * Eigen::Vector2d(sigma_x, sigma_y);
   for (int axis = 0; axis < 2; ++axis)
@@ -165,7 +174,10 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.threshold_m = a.speed_mps * params.reaction_time_s;
   a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
   if (params.model == DangerModel::kPredictive) {
-    a.time_to_corridor_s = predictedTimeToCorridor(object, params);
+    // A young track's velocity is not evidence yet (a fragment's, a wall's ghost velocity looks
+    // exactly like a pedestrian stepping in): judged where it stands.
+    a.time_to_corridor_s = predictedTimeToCorridor(
+        object, params, isYoungTrack(object, params) ? MotionHypothesis::kStandsStill : MotionHypothesis::kMeasured);
     a.dangerous = a.time_to_corridor_s >= 0.0;
   } else {
     a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;
