@@ -114,20 +114,17 @@ bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
   return object.hits > 0 && object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
 }
 
-double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params,
-                               MotionHypothesis motion) {
-  const bool measured = motion == MotionHypothesis::kMeasured;
+double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
   const double half_width = params.half_width_m + params.margin_m;
   const double length = params.vehicle_front_m + params.stopping_margin_m;
-  const auto sigmaOf = [&](double s) { return measured && std::isfinite(s) ? std::max(0.0, s) : 0.0; };
+  const auto sigmaOf = [](double s) { return std::isfinite(s) ? std::max(0.0, s) : 0.0; };
   const double sigma_x = sigmaOf(object.velocity_std.x()), sigma_y = sigmaOf(object.velocity_std.y());
   // The object's velocity over ground: its relative velocity plus the velocity of the
-  // vehicle-fixed point where it is (relativeVelocity's inverse, planar); zero when it stands still.
+  // vehicle-fixed point where it is (relativeVelocity's inverse, planar).
   const Eigen::Vector2d ego_v = object.ego_velocity;
   const double ego_w = object.ego_yaw_rate;
-  Eigen::Vector2d ground_v = Eigen::Vector2d::Zero();
-  if (measured)
-    ground_v = object.velocity.head<2>() + ego_v + ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  Eigen::Vector2d ground_v = object.velocity.head<2>() + ego_v +
+                             ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
   // The static-world prior: each axis shrunk toward zero by k sigma (soft threshold).
   const Eigen::Vector2d shrink = params.static_prior_k * Eigen::Vector2d(sigma_x, sigma_y);
   for (int axis = 0; axis < 2; ++axis)
@@ -174,10 +171,11 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.threshold_m = a.speed_mps * params.reaction_time_s;
   a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
   if (params.model == DangerModel::kPredictive) {
-    // A young track's velocity is not evidence yet (a fragment's, a wall's ghost velocity looks
-    // exactly like a pedestrian stepping in): judged where it stands.
-    a.time_to_corridor_s = predictedTimeToCorridor(
-        object, params, isYoungTrack(object, params) ? MotionHypothesis::kStandsStill : MotionHypothesis::kMeasured);
+    a.time_to_corridor_s = predictedTimeToCorridor(object, params);
+    // A young track's prediction is not evidence yet: only what is in the corridor or about to
+    // enter it (the hysteresis's immediate case) counts.
+    if (isYoungTrack(object, params) && a.time_to_corridor_s > params.immediate_ttc_s)
+      a.time_to_corridor_s = -1.0;
     a.dangerous = a.time_to_corridor_s >= 0.0;
   } else {
     a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;

@@ -60,14 +60,13 @@ struct DangerParams {
   // reaction time sweeps the corridor across whatever stands on the far side of the bend.
   // 0 = no cap (constant turn rate over the whole reaction time).
   double max_heading_change_rad = 0.0;
-  // A young track's velocity is not yet evidence: a track with fewer than motion_min_hits
-  // associated detections (ObjectKinematics::hits) is judged as standing still (its velocity over
-  // ground zero, no velocity-uncertainty growth, footprint_margin_m kept): what stands in the
-  // corridor (path + margin_m), or that the vehicle drives into within the reaction time, is
-  // dangerous at once whatever its age; a fragment's or a wall's ghost velocity (on KITTI 2-20 m/s,
-  // indistinguishable from a pedestrian stepping in) lights nothing while young. A pedestrian
-  // stepping in is flagged when it reaches the corridor's margin, at the latest, and on its motion
-  // from its motion_min_hits-th detection on. Meaningful with ego motion; 0 = off.
+  // A young track's prediction is not yet evidence: a track with fewer than motion_min_hits
+  // associated detections (ObjectKinematics::hits) is dangerous only while its time-to-corridor is
+  // at most immediate_ttc_s (inside the corridor, or about to enter it, whatever its age: a
+  // pedestrian stepping in is not held back past that); the full reaction time counts from its
+  // motion_min_hits-th detection on. On KITTI the young tracks of fragments, walls and hedges
+  // carry ghost velocities that sweep them into the corridor seconds ahead; where pedestrians'
+  // tracks restart (clutter) it costs lead time (docs/evaluation.md). 0 = off.
   int motion_min_hits = 0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
@@ -145,7 +144,7 @@ struct DangerAssessment {
 // Dispatches on params.model. kPaper (Listing 1): dangerous when distance <= speed *
 // reaction_time and isMovingTowardMe. kPredictive: dangerous when timeToCorridor >= 0 (section,
 // distance, speed, heading and moving_toward are filled as for the paper's rule, for display);
-// a young track (isYoungTrack) is judged by predictedTimeToCorridor(..., kStandsStill).
+// a young track (isYoungTrack) only when timeToCorridor <= immediate_ttc_s (else it is -1).
 // The section is that of the closest point of [aabb_min, aabb_max] (getSection).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
@@ -157,12 +156,7 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
 // A part seen from a turned vehicle is a rotated rectangle, tested exactly against the corridor
 // (separating axes), not by its axis-aligned bounds. With no ego twist this is the footprint
 // moving at the relative velocity against the corridor ahead.
-// kMeasured: the object moves with its (filtered) velocity, as above. kStandsStill: its velocity
-// over ground is taken as zero and not grown by its uncertainty (the static hypothesis: only the
-// vehicle moves, footprint_margin_m still applies).
-enum class MotionHypothesis : std::uint8_t { kMeasured, kStandsStill };
-double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params,
-                               MotionHypothesis motion = MotionHypothesis::kMeasured);
+double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
 
 // A track with fewer than params.motion_min_hits detections (hits known, i.e. > 0).
 bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params);
