@@ -84,6 +84,7 @@ ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego
   k.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
   k.ego_velocity = Eigen::Vector2d(ego_twist.linear.x, ego_twist.linear.y);
   k.ego_yaw_rate = ego_twist.angular.z;
+  k.hits = o.hits;
   k.footprint.reserve(o.footprint.size());
   for (const auto& cell : o.footprint)
     k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min),

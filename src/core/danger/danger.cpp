@@ -61,6 +61,8 @@ std::string validate(const DangerParams& params) {
   else if (!(params.max_heading_change_rad >= 0.0 && params.max_heading_change_rad <= M_PI))
     why << "danger.max_heading_change_rad must be in [0, pi] (0: no cap; got "
         << params.max_heading_change_rad << ")";
+  else if (params.motion_min_hits < 0 || params.motion_min_hits > 1000)
+    why << "danger.motion_min_hits must be in [0, 1000] (0: off; got " << params.motion_min_hits << ")";
   else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
     why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
   else if (params.on_frames < 1)
@@ -106,6 +108,10 @@ Eigen::Vector3d closestPoint(const Eigen::Vector3d& aabb_min, const Eigen::Vecto
 
 double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max) {
   return closestPoint(aabb_min, aabb_max).norm();
+}
+
+bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
+  return object.hits > 0 && object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
 }
 
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
@@ -166,6 +172,10 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
   if (params.model == DangerModel::kPredictive) {
     a.time_to_corridor_s = predictedTimeToCorridor(object, params);
+    // A young track's prediction is not evidence yet: only what is in the corridor or about to
+    // enter it (the hysteresis's immediate case) counts.
+    if (isYoungTrack(object, params) && a.time_to_corridor_s > params.immediate_ttc_s)
+      a.time_to_corridor_s = -1.0;
     a.dangerous = a.time_to_corridor_s >= 0.0;
   } else {
     a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;

@@ -441,7 +441,7 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
   c << "t,outcome,truth_id,truth_type,truth_x,truth_y,truth_length,truth_width,truth_yaw,"
        "truth_vx,truth_vy,truth_ttc_s,"
        "det_id,det_fragment,det_dangerous,det_x,det_y,det_vx,det_vy,det_vx_std,det_vy_std,"
-       "det_x_min,det_x_max,det_y_min,det_y_max,det_age,perfect_dangerous\n";
+       "det_vgx,det_vgy,det_x_min,det_x_max,det_y_min,det_y_max,det_age,perfect_dangerous\n";
   char buf[512];
   for (const ScoredRow& row : rows) {
     std::snprintf(buf, sizeof(buf), "%.3f,%s,", row.t, toString(row.outcome));
@@ -458,13 +458,13 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
     if (row.has_detection) {
       const DetectedObject& d = row.detection;
       std::snprintf(buf, sizeof(buf),
-                    "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u,", d.id,
-                    row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
+                    "%u,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%u,",
+                    d.id, row.fragment ? 1 : 0, d.dangerous ? 1 : 0, d.center.x(), d.center.y(),
                     d.velocity.x(), d.velocity.y(), d.velocity_std.x(), d.velocity_std.y(),
-                    d.aabb_min.x(), d.aabb_max.x(), d.aabb_min.y(), d.aabb_max.y(), d.age);
+                    d.velocity_over_ground.x(), d.velocity_over_ground.y(), d.aabb_min.x(), d.aabb_max.x(), d.aabb_min.y(), d.aabb_max.y(), d.age);
       c << buf;
     } else {
-      c << ",,,,,,,,,,,,,,";
+      c << ",,,,,,,,,,,,,,,,";
     }
     // The model on the true object's perfect track (empty for a false alarm of no true object).
     c << (row.has_truth ? (row.perfect_flagged ? "1" : "0") : "") << "\n";

@@ -175,6 +175,7 @@ TEST(Evaluate, RowsExplainEachCountedObjectFrame) {
   EXPECT_NE(csv.find("\n0.500,FP,,,,,,,,,,,30,0,1,18.000,3.000,"), std::string::npos) << csv;
   // The last column: the model on the true object's perfect track; empty without a true object.
   EXPECT_NE(csv.find(",det_age,perfect_dangerous\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",det_vy_std,det_vgx,det_vgy,det_x_min,"), std::string::npos) << csv;
   EXPECT_EQ(csv.substr(csv.size() - 2), ",\n") << csv;  // the detection of nothing
   const std::string fn_line = csv.substr(csv.find("\n0.500,FN,3,") + 1);
   EXPECT_EQ(fn_line.substr(fn_line.find('\n') - 2, 2), (rows[2].perfect_flagged ? ",1" : ",0")) << csv;
@@ -182,7 +183,7 @@ TEST(Evaluate, RowsExplainEachCountedObjectFrame) {
   std::size_t start = 0;
   while (start < csv.size()) {
     const std::size_t end = csv.find('\n', start);
-    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 26) << csv.substr(start, end - start);
+    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 28) << csv.substr(start, end - start);
     start = end + 1;
   }
 }

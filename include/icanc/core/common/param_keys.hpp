@@ -83,6 +83,7 @@ void visitParams(Reader& r, DangerParams& p) {
   r("predictive/footprint_margin_m", p.footprint_margin_m);
   r("predictive/static_prior_k", p.static_prior_k);
   r("predictive/max_heading_change_rad", p.max_heading_change_rad);
+  r("predictive/motion_min_hits", p.motion_min_hits);
   r("predictive/time_step_s", p.time_step_s);
   r("predictive/on_frames", p.on_frames);
   r("predictive/off_frames", p.off_frames);

@@ -60,6 +60,14 @@ struct DangerParams {
   // reaction time sweeps the corridor across whatever stands on the far side of the bend.
   // 0 = no cap (constant turn rate over the whole reaction time).
   double max_heading_change_rad = 0.0;
+  // A young track's prediction is not yet evidence: a track with fewer than motion_min_hits
+  // associated detections (ObjectKinematics::hits) is dangerous only while its time-to-corridor is
+  // at most immediate_ttc_s (inside the corridor, or about to enter it, whatever its age: a
+  // pedestrian stepping in is not held back past that); the full reaction time counts from its
+  // motion_min_hits-th detection on. On KITTI the young tracks of fragments, walls and hedges
+  // carry ghost velocities that sweep them into the corridor seconds ahead; where pedestrians'
+  // tracks restart (clutter) it costs lead time (docs/evaluation.md). 0 = off.
+  int motion_min_hits = 0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
   // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
@@ -115,6 +123,9 @@ struct ObjectKinematics {
   // still and the object moves at its relative velocity (the ego_motion source none).
   Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
   double ego_yaw_rate = 0.0;
+  // Detections associated with the track so far (icanc/Obstacle hits); 0 = unknown, judged as a
+  // settled track (DangerParams::motion_min_hits does not apply).
+  std::uint32_t hits = 0;
 };
 
 struct DangerAssessment {
@@ -132,7 +143,8 @@ struct DangerAssessment {
 
 // Dispatches on params.model. kPaper (Listing 1): dangerous when distance <= speed *
 // reaction_time and isMovingTowardMe. kPredictive: dangerous when timeToCorridor >= 0 (section,
-// distance, speed, heading and moving_toward are filled as for the paper's rule, for display).
+// distance, speed, heading and moving_toward are filled as for the paper's rule, for display);
+// a young track (isYoungTrack) only when timeToCorridor <= immediate_ttc_s (else it is -1).
 // The section is that of the closest point of [aabb_min, aabb_max] (getSection).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
@@ -145,6 +157,9 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
 // (separating axes), not by its axis-aligned bounds. With no ego twist this is the footprint
 // moving at the relative velocity against the corridor ahead.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
+
+// A track with fewer than params.motion_min_hits detections (hits known, i.e. > 0).
+bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params);
 
 // Per-track hysteresis of the danger label (params: on_frames, off_frames, immediate_ttc_s,
 // forget_after_s). Call update() for each obstacle of a frame with the frame's time; ids not
