@@ -36,11 +36,14 @@
 #include "icanc/LampState.h"
 #include "icanc/core/bridge/rosserial_session.hpp"
 #include "icanc/core/bridge/serial_port.hpp"
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
 namespace icanc {
 
 namespace {
+
+using icanc::percentile;
 
 double steadyNow() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -49,13 +52,6 @@ double steadyNow() {
 rosserial::Stamp rosNow() {
   const ros::Time t = ros::Time::now();
   return rosserial::Stamp{t.sec, t.nsec};
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-  return v[i];
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/evaluation/kitti_score.hpp"
@@ -35,16 +36,12 @@
 
 namespace {
 
+using icanc::percentile;
+
 using icanc::Cloud;
 using icanc::ObstacleDetector;
 using icanc::ObstacleDetectorParams;
 using icanc::StageTimes;
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
 
 struct Series {
   std::vector<double> prep, ground, cluster, track, total;

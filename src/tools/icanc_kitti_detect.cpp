@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/evaluation/kitti_score.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
@@ -25,11 +26,7 @@
 
 namespace {
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
+using icanc::percentile;
 
 std::string frameName(const std::string& dir, int frame) {
   char name[64];

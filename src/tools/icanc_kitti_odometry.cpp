@@ -25,6 +25,7 @@
 
 #include <time.h>
 
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/core/common/planar_geometry.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
@@ -32,11 +33,7 @@
 
 namespace {
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
+using icanc::percentile;
 
 // CPU time of this thread [ms]: unlike wall time, not inflated by other work on the machine
 // (cache sharing still is), so the cost per frame can be read on a loaded machine too.
@@ -145,7 +142,9 @@ int main(int argc, char** argv) {
       iterations.push_back(s.iterations);
       reg_points.push_back(static_cast<double>(s.registration_points));
       map_points.push_back(static_cast<double>(s.map_points));
-      if (s.result == icanc::LidarOdometryStats::Result::kRegistered) observability.push_back(s.horizontal_observability);
+      if (s.result == icanc::LidarOdometryStats::Result::kRegistered ||
+          s.result == icanc::LidarOdometryStats::Result::kDegenerate)  // registration attempted
+        observability.push_back(s.horizontal_observability);
       if (!poses.empty()) length += (pose.translation() - poses.back().translation()).norm();
       poses.push_back(pose);
     }
@@ -167,7 +166,7 @@ int main(int argc, char** argv) {
         "iterations %.0f, registration points %.0f, map points %.0f\n",
         percentile(down_ms, 0.5), percentile(reg_ms, 0.5), percentile(map_ms, 0.5),
         percentile(iterations, 0.5), percentile(reg_points, 0.5), percentile(map_points, 0.5));
-    std::printf("horizontal observability (registered frames): min %.3f, p1 %.3f, p50 %.3f\n",
+    std::printf("horizontal observability (frames registered or degenerate): min %.3f, p1 %.3f, p50 %.3f\n",
                 percentile(observability, 0.0), percentile(observability, 0.01), percentile(observability, 0.5));
     std::printf("trajectory length %.2f m, end (%.2f, %.2f, %.2f) m, final yaw %.1f deg\n", length,
                 end.x(), end.y(), end.z(), yaw * 180.0 / M_PI);

@@ -6,8 +6,9 @@
 //
 //   icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--trace]
 // Prints per scenario the worst position and yaw error, the worst forward-speed error after the
-// first second, the frames registered, and what the registration had to work with: the
-// registration points above the road (structure) against those on it, median per frame.
+// first second, the frames registered, and what the registration had to work with: the returns
+// in range above the road (structure) against those on it, median per frame, and the horizontal
+// observability of the frames registered or found degenerate (median, min).
 // --trace: one line per frame.
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/core/common/yaml_params.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
 #include "icanc/sim/lidar_sim.hpp"
@@ -27,12 +29,6 @@ namespace {
 const char* const kUsage = "usage: icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--trace]\n";
 
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose(0, 0)); }
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 void follow(const std::string& path, bool trace) {
   const icanc::sim::Scenario s = icanc::sim::loadScenario(path);
@@ -70,10 +66,10 @@ void follow(const std::string& path, bool trace) {
     if (t >= 1.0)
       worst_speed = std::max(worst_speed, std::fabs(odometry.linearVelocity().x() - s.vehicleTwist(t).linear.x()));
     const auto& stats = odometry.lastStats();
-    if (stats.result == icanc::LidarOdometryStats::Result::kRegistered) {
-      ++registered;
+    registered += stats.result == icanc::LidarOdometryStats::Result::kRegistered;
+    if (stats.result == icanc::LidarOdometryStats::Result::kRegistered ||
+        stats.result == icanc::LidarOdometryStats::Result::kDegenerate)  // registration attempted
       observability.push_back(stats.horizontal_observability);
-    }
     if (trace)
       std::printf("  t %5.1f  estimate (%7.2f %6.2f %6.3f)  truth (%7.2f %6.2f %6.3f)  speed %5.2f / %5.2f  "
                   "points above / on the road %zu / %zu  observability %.3f  %s\n",
@@ -86,8 +82,8 @@ void follow(const std::string& path, bool trace) {
               "%.2f m/s (after 1 s); returns in range above / on the road, median per frame: %.0f / %.0f; "
               "horizontal observability median %.3f, min %.3f\n",
               s.name.c_str(), s.frames(), registered, worst_position, worst_yaw, worst_speed,
-              median(structure), median(road), median(observability),
-              observability.empty() ? 0.0 : *std::min_element(observability.begin(), observability.end()));
+              icanc::percentile(structure, 0.5), icanc::percentile(road, 0.5),
+              icanc::percentile(observability, 0.5), icanc::percentile(observability, 0.0));
 }
 
 }  // namespace

@@ -19,17 +19,13 @@
 
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/core/evaluation/energy.hpp"
 #include "tool_help.hpp"
 
 namespace {
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t i = static_cast<std::size_t>(p * (v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
-}
+using icanc::percentile;
 
 class Summary {
  public:

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "icanc/core/common/percentile.hpp"
 #include "icanc/core/tracking/hungarian.hpp"
 #include "icanc/core/light/light_controller.hpp"
 
@@ -14,12 +15,6 @@ namespace icanc {
 namespace {
 
 double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-}
 
 bool inScope(const Eigen::Vector2d& c, const EvalParams& p) {
   if (c.norm() > p.max_range_m) return false;

@@ -216,13 +216,26 @@ double LidarOdometry::adaptiveThreshold() const {
                                  : std::sqrt(deviation_sse_ / deviation_samples_);
 }
 
+std::uint64_t LidarOdometry::blockCorner(const Eigen::Vector3f& s, std::int32_t base[3]) const {
+  for (int k = 0; k < 3; ++k) {
+    const float v = s[k] * inv_map_voxel_;
+    const std::int32_t f = floorToInt(v);
+    base[k] = f - (v - static_cast<float>(f) < 0.5f ? 1 : 0);
+  }
+  return packKey(base[0], base[1], base[2]);
+}
+
+void LidarOdometry::findBlock(const std::int32_t base[3], std::int32_t voxels[8]) const {
+  for (int c = 0; c < 8; ++c)
+    voxels[c] = map_index_.find(packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
+}
+
 bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
                                  Eigen::Isometry3d& result) {
   const float max_d2 = static_cast<float>(9.0 * sigma * sigma);  // 3 sigma
   const double kernel = sigma / 3.0;
   const double kernel2 = kernel * kernel;
   const int per_voxel = params_.max_points_per_voxel;
-  const float inv = inv_map_voxel_;
   const std::size_t n = registration_.size();
   neighbourhoods_.resize(n);
   for (Neighbourhood& nb : neighbourhoods_) nb.block = ~0ull;
@@ -248,21 +261,12 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3f a = r * registration_[i];
       const Eigen::Vector3f s = a + t;
-      // The 2 x 2 x 2 block of voxels nearest to s: on each axis its voxel and the neighbour on
-      // the side of the voxel's half it lies in.
       std::int32_t base[3];
-      for (int k = 0; k < 3; ++k) {
-        const float v = s[k] * inv;
-        const std::int32_t f = floorToInt(v);
-        base[k] = f - (v - static_cast<float>(f) < 0.5f ? 1 : 0);
-      }
+      const std::uint64_t block = blockCorner(s, base);
       Neighbourhood& nb = neighbourhoods_[i];
-      const std::uint64_t block = packKey(base[0], base[1], base[2]);
       if (block != nb.block) {
         nb.block = block;
-        for (int c = 0; c < 8; ++c)
-          nb.voxels[c] = map_index_.find(
-              packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
+        findBlock(base, nb.voxels);
       }
       float best = max_d2;
       const Eigen::Vector3f* nearest = nullptr;
@@ -333,25 +337,18 @@ double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, flo
   const Eigen::Matrix3f r = pose.rotation().cast<float>();
   const Eigen::Vector3f t = pose.translation().cast<float>();
   const int per_voxel = params_.max_points_per_voxel;
-  const float inv = inv_map_voxel_;
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   std::size_t used = 0;
   Eigen::Vector3f block_points[8 * kMaxPointsPerVoxel];
   for (const Eigen::Vector3f& p : registration_) {
     const Eigen::Vector3f s = r * p + t;
-    // The 2 x 2 x 2 voxels around s, as registerScan searches them: its match and the neighbours
-    // the plane is fitted to.
-    std::int32_t base[3];
-    for (int k = 0; k < 3; ++k) {
-      const float v = s[k] * inv;
-      const std::int32_t f = floorToInt(v);
-      base[k] = f - (v - static_cast<float>(f) < 0.5f ? 1 : 0);
-    }
+    // The voxels registerScan searches around s: its match and the neighbours the plane is fitted to.
+    std::int32_t base[3], voxels[8];
+    blockCorner(s, base);
+    findBlock(base, voxels);
     int count = 0;
     float best = max_d2;
-    for (int c = 0; c < 8; ++c) {
-      const std::int32_t slot =
-          map_index_.find(packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
+    for (const std::int32_t slot : voxels) {
       if (slot < 0) continue;
       const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
       for (int j = 0, m = map_counts_[slot]; j < m; ++j) {

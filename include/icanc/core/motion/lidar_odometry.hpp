@@ -211,6 +211,11 @@ class LidarOdometry {
 
   Eigen::Isometry3d predict(double dt) const;
   void selectRegistrationPoints();
+  // The 2 x 2 x 2 map voxels nearest to s, searched for its match: on each axis its voxel and the
+  // neighbour on the side of the voxel's half it lies in. blockCorner: the block's lowest corner
+  // (voxel indices), returned as its key; findBlock: each voxel's map slot (-1: empty).
+  std::uint64_t blockCorner(const Eigen::Vector3f& s, std::int32_t base[3]) const;
+  void findBlock(const std::int32_t base[3], std::int32_t voxels[8]) const;
   // ICP from `guess`; false when the result is degenerate.
   bool registerScan(const Eigen::Isometry3d& guess, double sigma, Eigen::Isometry3d& result);
   // LidarOdometryStats::horizontal_observability of the registration points at `pose`, matches
