@@ -101,8 +101,11 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     Eigen::Affine3f mount;
     if (!lookupMount(msg->header, mount)) return;
 
+    // The points input_stride skips are not decoded at all.
+    const DecodePlan thinned = everyNthPoint(plan, odometry_->params().input_stride);
     const Eigen::Isometry3d pose = odometry_->registerFrom(
-        msg->header.stamp.toSec(), [&](auto&& sink) { forEachXYZ(raw, plan, mount, sink); });
+        msg->header.stamp.toSec(), [&](auto&& sink) { forEachXYZ(raw, thinned, mount, sink); },
+        LidarOdometry::Thinning::kBySource);
     const LidarOdometryStats& stats = odometry_->lastStats();
     using Result = LidarOdometryStats::Result;
     if (stats.result == Result::kReset) {

@@ -154,12 +154,16 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     fused_ms.push_back(icanc::fastNowMs() - t0);
     if (plan.width > 0) {
       const auto source = [&](auto&& sink) { icanc::forEachXYZ(raw, plan, identity, sink); };
+      // As the nodelet reads it: only every input_stride-th point decoded.
+      const icanc::DecodePlan thinned_plan = icanc::everyNthPoint(plan, odometry_params.input_stride);
+      const auto thinned = [&](auto&& sink) { icanc::forEachXYZ(raw, thinned_plan, identity, sink); };
+      constexpr auto kBySource = icanc::LidarOdometry::Thinning::kBySource;
       t0 = icanc::fastNowMs();
-      odometry.registerFrom(0.1 * f, source);
+      odometry.registerFrom(0.1 * f, thinned, kBySource);
       odometry_ms.push_back(icanc::fastNowMs() - t0);
       t0 = icanc::fastNowMs();
       fast_before_odometry.processFrom(0.1 * f, source);
-      odometry_after_fast.registerFrom(0.1 * f, source);
+      odometry_after_fast.registerFrom(0.1 * f, thinned, kBySource);
       fast_odometry_ms.push_back(icanc::fastNowMs() - t0);
     }
     cscore.add(icanc::kitti::scoreFrame(by_frame[f], cloud, classic.detections()));

@@ -129,7 +129,6 @@ LidarOdometry::LidarOdometry(const LidarOdometryParams& params) : params_(params
   max_range2_ = static_cast<float>(params.max_range_m * params.max_range_m);
   inv_frame_voxel_ = static_cast<float>(1.0 / (params.voxel_m * params.map_voxel_factor));
   inv_map_voxel_ = static_cast<float>(1.0 / params.voxel_m);
-  stride_ = params.input_stride;
 }
 
 void LidarOdometry::reset() {
@@ -156,8 +155,9 @@ Eigen::Isometry3d LidarOdometry::registerFrame(double stamp_s,
   });
 }
 
-void LidarOdometry::beginFrame() {
+void LidarOdometry::beginFrame(Thinning thinning) {
   input_points_ = 0;
+  stride_ = thinning == Thinning::kBySource ? 1 : params_.input_stride;
   last_key_ = ~0ull;
   stride_count_ = stride_ - 1;  // the first point is read
   frame_set_.clear();

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "icanc/core/common/yaml_params.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "lidar_odometry_scene.hpp"
 
@@ -135,6 +136,42 @@ TEST(LidarOdometry, ObservabilityTellsAStreetFromACorridor) {
     sliding.registerFrame(t, scanAt(corridor, t, truePose(t, 8.0, false), rng));
   }
   EXPECT_EQ(sliding.counters().degenerate, 0u);
+}
+
+TEST(LidarOdometry, ThinningAtTheSourceRegistersTheSamePoints) {
+  // The nodelet decodes only every input_stride-th point (everyNthPoint); the odometry counting
+  // them itself over the whole cloud must give the very same poses.
+  const sim::Scene scene = street();
+  LidarOdometryParams params = testParams();
+  params.input_stride = 3;
+  LidarOdometry counting(params), at_source(params);
+  std::mt19937_64 rng(13);
+  for (int f = 0; f <= 20; ++f) {
+    const double t = 0.1 * f;
+    const std::vector<Eigen::Vector3f> scan = scanAt(scene, t, truePose(t), rng);
+    RawCloud raw;  // the scan as an unorganized PointCloud2 of x, y, z float32
+    raw.width = static_cast<std::uint32_t>(scan.size());
+    raw.height = 1;
+    raw.point_step = sizeof(Eigen::Vector3f);
+    raw.row_step = raw.width * raw.point_step;
+    raw.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
+    raw.data = reinterpret_cast<const std::uint8_t*>(scan.data());
+    raw.data_size = scan.size() * sizeof(Eigen::Vector3f);
+    DecodePlan plan;
+    ASSERT_EQ(planDecode(raw, 1000000, plan), DecodeError::kNone);
+    const Eigen::Affine3f identity = Eigen::Affine3f::Identity();
+    const Eigen::Isometry3d a = counting.registerFrom(
+        t, [&](auto&& sink) { forEachXYZ(raw, plan, identity, sink); });
+    const DecodePlan thinned = everyNthPoint(plan, 3);
+    const Eigen::Isometry3d b = at_source.registerFrom(
+        t, [&](auto&& sink) { forEachXYZ(raw, thinned, identity, sink); },
+        LidarOdometry::Thinning::kBySource);
+    ASSERT_TRUE(a.isApprox(b, 1e-12)) << "frame " << f;
+    EXPECT_EQ(counting.lastStats().registration_points, at_source.lastStats().registration_points);
+    EXPECT_EQ(counting.lastStats().input_points, scan.size());
+    EXPECT_EQ(at_source.lastStats().input_points, (scan.size() + 2) / 3);
+  }
+  EXPECT_EQ(at_source.counters().registered, 20u);
 }
 
 TEST(LidarOdometry, TimeGoingBackwardsResets) {

@@ -103,6 +103,30 @@ TEST(CloudDecode, DecodesTheCommonLayout) {
   EXPECT_EQ(stats.dropped_zero, 0u);
 }
 
+TEST(CloudDecode, EveryNthPointReadsOnlyThoseOfEachRow) {
+  // Two rows of 5 with padding: every 2nd point is 0, 2, 4 of each row; 1 (and 0) read all.
+  const auto pts = somePoints(10);
+  Message m = makeXYZI(pts, 2, 8);
+  DecodePlan plan;
+  ASSERT_EQ(planDecode(m.view(), kMax, plan), DecodeError::kNone);
+  const auto read = [&](const DecodePlan& p) {
+    std::vector<Eigen::Vector3f> got;
+    forEachXYZ(m.raw, p, Eigen::Affine3f::Identity(),
+               [&](float x, float y, float z) { got.emplace_back(x, y, z); });
+    return got;
+  };
+  const std::vector<Eigen::Vector3f> every2 = read(everyNthPoint(plan, 2));
+  ASSERT_EQ(every2.size(), 6u);
+  const int expected[] = {0, 2, 4, 5, 7, 9};
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(every2[i], pts[expected[i]]) << i;
+  const std::vector<Eigen::Vector3f> every3 = read(everyNthPoint(plan, 3));
+  ASSERT_EQ(every3.size(), 4u);  // 0, 3 of each row
+  EXPECT_EQ(every3[3], pts[8]);
+  EXPECT_EQ(read(everyNthPoint(plan, 1)).size(), 10u);
+  EXPECT_EQ(read(everyNthPoint(plan, 0)).size(), 10u);
+  EXPECT_EQ(read(everyNthPoint(plan, 7)).size(), 2u);  // a stride beyond the row: its first
+}
+
 TEST(CloudDecode, EmptyCloud) {
   Message m = makeXYZI(somePoints(4));
   Cloud out;

@@ -155,10 +155,15 @@ class LidarOdometry {
 
   // One cloud, in the vehicle frame (base_link), taken at stamp_s. Returns odom_T_base.
   Eigen::Isometry3d registerFrame(double stamp_s, const std::vector<Eigen::Vector3f>& points);
+  // Who keeps every input_stride-th point: the odometry, counting what the source gives it, or
+  // the source itself (forEachXYZ over everyNthPoint(plan, input_stride)), so that the points
+  // skipped are never decoded (LidarOdometryStats::input_points then counts those read).
+  enum class Thinning { kByOdometry, kBySource };
   // Same, reading points through `source(sink)`, sink(x, y, z) per point (forEachXYZ's shape),
   // so a decoder feeds the downsampling directly.
   template <class Source>
-  Eigen::Isometry3d registerFrom(double stamp_s, Source&& source);
+  Eigen::Isometry3d registerFrom(double stamp_s, Source&& source,
+                                 Thinning thinning = Thinning::kByOdometry);
 
   const Eigen::Isometry3d& pose() const { return pose_; }
   Eigen::Vector3d linearVelocity() const { return linear_velocity_; }    // base frame [m/s]
@@ -174,7 +179,7 @@ class LidarOdometry {
   void reset();
 
  private:
-  void beginFrame();
+  void beginFrame(Thinning thinning);
   // Pass 1, per point: range filter and the first point of each map-resolution voxel.
   ICANC_ALWAYS_INLINE void addPoint(float x, float y, float z) {
     ++input_points_;
@@ -272,9 +277,9 @@ class LidarOdometry {
 double odometryNowMs();
 
 template <class Source>
-Eigen::Isometry3d LidarOdometry::registerFrom(double stamp_s, Source&& source) {
+Eigen::Isometry3d LidarOdometry::registerFrom(double stamp_s, Source&& source, Thinning thinning) {
   const double t0 = odometryNowMs();
-  beginFrame();
+  beginFrame(thinning);
   source([&](float x, float y, float z) ICANC_ALWAYS_INLINE { addPoint(x, y, z); });
   return finishFrame(stamp_s, t0);
 }
