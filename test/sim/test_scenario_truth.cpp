@@ -125,6 +125,10 @@ TEST(ScenarioTruth, TurningRoadScenarios) {
   s = summarise("night_s_bend_oncoming");
   EXPECT_EQ(s.dangerous.size(), 1u);  // the broken-down car only, never the oncoming traffic
   expectDanger(s, 5, 32, 10.3, 13.4);
+  s = summarise("night_town_street");  // façades, posts, trees, parked cars: never
+  EXPECT_EQ(s.frames, 131u);
+  EXPECT_EQ(s.dangerous.size(), 1u);  // the pedestrian stepping out between parked cars only
+  expectDanger(s, 1, 24, 2.8, 5.1);
 }
 
 TEST(ScenarioTruth, RenderedFrameCountsPointsInTheTrueBoxesInTheVehicleFrame) {

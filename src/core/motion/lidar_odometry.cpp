@@ -236,6 +236,7 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   const double kernel = sigma / 3.0;
   const double kernel2 = kernel * kernel;
   const int per_voxel = params_.max_points_per_voxel;
+  const bool point_to_plane = params_.point_to_plane;
   const std::size_t n = registration_.size();
   neighbourhoods_.resize(n);
   for (Neighbourhood& nb : neighbourhoods_) nb.block = ~0ull;
@@ -258,6 +259,10 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
                     swaxr = Eigen::Vector3d::Zero();
     Eigen::Matrix3d swaa = Eigen::Matrix3d::Zero();
     matched = 0;
+    // Point-to-plane matches, summed as J^T w J (lower triangle) and J^T w r.
+    Eigen::Matrix<double, 6, 6> plane_hessian = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> plane_gradient = Eigen::Matrix<double, 6, 1>::Zero();
+    double plane_weight = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3f a = r * registration_[i];
       const Eigen::Vector3f s = a + t;
@@ -267,6 +272,7 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       if (block != nb.block) {
         nb.block = block;
         findBlock(base, nb.voxels);
+        nb.planar = point_to_plane && fitPlane(nb.voxels, nb.normal);
       }
       float best = max_d2;
       const Eigen::Vector3f* nearest = nullptr;
@@ -286,6 +292,17 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       ++matched;
       const Eigen::Vector3d ad = a.cast<double>();
       const Eigen::Vector3d res = (s - *nearest).cast<double>();
+      if (nb.planar) {  // r = n.(s - q), J = [n, a x n]
+        const Eigen::Vector3d nd = nb.normal.cast<double>();
+        const double r = nd.dot(res);
+        const double w = kernel2 / ((kernel + r * r) * (kernel + r * r));
+        Eigen::Matrix<double, 6, 1> j;
+        j << nd, ad.cross(nd);
+        plane_hessian.selfadjointView<Eigen::Lower>().rankUpdate(j, w);
+        plane_gradient += (w * r) * j;
+        plane_weight += w;
+        continue;
+      }
       const double w = kernel2 / ((kernel + best) * (kernel + best));  // Geman-McClure
       sw += w;
       swa += w * ad;
@@ -304,6 +321,12 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
     weight_sum = sw;
     Eigen::Matrix<double, 6, 1> gradient;
     gradient << swr, swaxr;
+    if (plane_weight > 0.0) {
+      const Eigen::Matrix<double, 6, 6> full = plane_hessian.selfadjointView<Eigen::Lower>();
+      hessian += full;
+      gradient += plane_gradient;
+      weight_sum += plane_weight;
+    }
     const Eigen::Matrix<double, 6, 1> dx = hessian.ldlt().solve(-gradient);
     if (!dx.allFinite()) break;
     translation += dx.head<3>();
@@ -331,6 +354,35 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   if (stats_.horizontal_observability < params_.min_horizontal_observability) return false;
   if ((result.translation() - guess.translation()).norm() > params_.max_correction_m) return false;
   return result.matrix().allFinite();
+}
+
+bool LidarOdometry::fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& normal) const {
+  const int per_voxel = params_.max_points_per_voxel;
+  // Moments about one of the points: odom coordinates (tens of metres) would cancel in float.
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero(), origin = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f outer = Eigen::Matrix3f::Zero();
+  int count = 0;
+  for (int c = 0; c < 8; ++c) {
+    const std::int32_t slot = voxels[c];
+    if (slot < 0) continue;
+    const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
+    for (int j = 0, m = map_counts_[slot]; j < m; ++j) {
+      if (count == 0) origin = q[j];
+      const Eigen::Vector3f d = q[j] - origin;
+      sum += d;
+      outer += d * d.transpose();
+      ++count;
+    }
+  }
+  if (count < 5) return false;
+  const Eigen::Vector3f mean = sum / static_cast<float>(count);
+  const Eigen::Matrix3f cov = outer / static_cast<float>(count) - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig;
+  eig.computeDirect(cov);
+  const Eigen::Vector3f& l = eig.eigenvalues();  // ascending
+  if (!(l(0) <= 0.1f * l(1))) return false;     // a line, a blob or a corner: point-to-point
+  normal = eig.eigenvectors().col(0);
+  return true;
 }
 
 double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, float max_d2) const {

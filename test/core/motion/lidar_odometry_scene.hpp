@@ -82,25 +82,27 @@ inline Eigen::Isometry3d truePose(double t, double speed = 8.0, bool turn = true
   return pose;
 }
 
-// One scan from base_link at `base_pose`, returned in base_link (the sensor's z mount added).
+// One scan from base_link at `base_pose` (a VLP-16 unless `model` says otherwise).
 // The scan in the sensor frame (organized, NaN for no return), as a driver would publish it.
 inline Cloud sensorScan(const sim::Scene& scene, double t, const Eigen::Isometry3d& base_pose,
-                        std::mt19937_64& rng, float range_std = 0.05f) {
+                        std::mt19937_64& rng, float range_std = 0.05f,
+                        const sim::LidarModel& model = sim::LidarModel::vlp16()) {
   Eigen::Isometry3f sensor = base_pose.cast<float>();
   sensor.translation() += sensor.linear() * Eigen::Vector3f(0.0f, 0.0f, kMountZ);
   sim::NoiseParams noise;
   noise.range_std_m = range_std;
   Cloud cloud;
-  sim::renderScan(scene, t, sensor, sim::LidarModel::vlp16(), noise, rng, cloud);
+  sim::renderScan(scene, t, sensor, model, noise, rng, cloud);
   return cloud;
 }
 
 // The scan in base_link (the sensor's z mount added, no-return rays dropped).
 inline std::vector<Eigen::Vector3f> scanAt(const sim::Scene& scene, double t,
                                            const Eigen::Isometry3d& base_pose, std::mt19937_64& rng,
-                                           float range_std = 0.05f) {
+                                           float range_std = 0.05f,
+                                           const sim::LidarModel& model = sim::LidarModel::vlp16()) {
   std::vector<Eigen::Vector3f> points;
-  for (const Point& p : sensorScan(scene, t, base_pose, rng, range_std))
+  for (const Point& p : sensorScan(scene, t, base_pose, rng, range_std, model))
     if (std::isfinite(p.x)) points.emplace_back(p.x, p.y, p.z + kMountZ);
   return points;
 }

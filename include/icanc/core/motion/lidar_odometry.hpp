@@ -57,6 +57,12 @@ struct LidarOdometryParams {
   // lets ICP slide and report "not moving"; KITTI 0000's street: 0.197 at least, 0.257 median.
   double min_horizontal_observability = 0.12;
   double max_dt_s = 1.0;                  // longer gap between clouds: motion prior dropped [s]
+  // Point-to-plane residuals where the map around a match is a plane (its points' smallest spread
+  // under a tenth of the next): the distance along the plane's normal, so a point may slide along
+  // a wall or the road. Sensors that sample a wall in fixed columns or rings (a sparse azimuth:
+  // CARLA's 128-channel unit at 0.72 deg) otherwise pull point-to-point ICP onto the previous
+  // scan's columns, toward "not moving". Elsewhere (poles, corners, sparse map): point-to-point.
+  bool point_to_plane = false;
 };
 
 constexpr int kMaxPointsPerVoxel = 32;
@@ -86,6 +92,7 @@ void visitParams(Reader& r, LidarOdometryParams& p) {
   r("max_correction_m", p.max_correction_m);
   r("min_horizontal_observability", p.min_horizontal_observability);
   r("max_dt_s", p.max_dt_s);
+  r("point_to_plane", p.point_to_plane);
 }
 
 struct LidarOdometryStats {
@@ -248,7 +255,11 @@ class LidarOdometry {
   struct Neighbourhood {
     std::uint64_t block = ~0ull;
     std::int32_t voxels[8];
+    Eigen::Vector3f normal;  // of the block's map points when they are planar (point_to_plane)
+    bool planar = false;
   };
+  // The plane of the block's map points: false when fewer than 5 or not planar.
+  bool fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& normal) const;
   std::vector<Neighbourhood> neighbourhoods_;
 
   // Map: voxel key -> slot; slot s holds counts_[s] points at points_[s * per_voxel].
