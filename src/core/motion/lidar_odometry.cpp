@@ -380,7 +380,8 @@ bool LidarOdometry::fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& norm
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig;
   eig.computeDirect(cov);
   const Eigen::Vector3f& l = eig.eigenvalues();  // ascending
-  if (!(l(0) <= 0.1f * l(1))) return false;     // a line, a blob or a corner: point-to-point
+  // A line, a blob or a corner (or points all at one place: no plane): point-to-point.
+  if (!(l(1) > 1e-6f && l(0) <= 0.1f * l(1))) return false;
   normal = eig.eigenvectors().col(0);
   return true;
 }
