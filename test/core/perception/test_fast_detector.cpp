@@ -246,15 +246,20 @@ Cloud renderStreet() {
 
 // Issue 22, item 2: a 32-beam unit 1.9 m up (mount_roof32_clutter) rendered into base_link (the road
 // at z = 0), with the carla_model3 profile's ROI.
-Cloud renderRoof32(const sim::Scene& scene, float sensor_x) {
-  std::mt19937_64 rng(11);
+Cloud renderMounted(const sim::Scene& scene, const sim::LidarModel& model, float sensor_x,
+                    float height, unsigned seed) {
+  std::mt19937_64 rng(seed);
   Cloud scan, cloud;
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
-  pose.translation() = Eigen::Vector3f(sensor_x, 0.0f, 1.9f);
-  sim::renderScan(scene, 0.0, pose, sim::LidarModel::hdl32e(), sim::NoiseParams(), rng, scan);
+  pose.translation() = Eigen::Vector3f(sensor_x, 0.0f, height);
+  sim::renderScan(scene, 0.0, pose, model, sim::NoiseParams(), rng, scan);
   for (const Point& p : scan)
-    if (std::isfinite(p.x)) cloud.push_back(Point(p.x, p.y, p.z + 1.9f));
+    if (std::isfinite(p.x)) cloud.push_back(Point(p.x, p.y, p.z + height));
   return cloud;
+}
+
+Cloud renderRoof32(const sim::Scene& scene, float sensor_x) {
+  return renderMounted(scene, sim::LidarModel::hdl32e(), sensor_x, 1.9f, 11);
 }
 
 CloudPrepParams roofRoi() {  // carla_model3's
@@ -268,6 +273,13 @@ sim::SceneObject block(const std::string& type, const Eigen::Vector3f& size,
   o.type = type;
   o.size = size;
   o.position = bottom_centre;
+  return o;
+}
+
+sim::SceneObject cylinder(const std::string& type, float diameter, float height,
+                          const Eigen::Vector3f& bottom_centre) {
+  sim::SceneObject o = block(type, {diameter, diameter, height}, bottom_centre);
+  o.shape = sim::Shape::kCylinder;
   return o;
 }
 
@@ -291,12 +303,7 @@ const Box3D* boxAt(const std::vector<Box3D>& boxes, float x, float y, float tole
 // overhang: the walker is its own obstacle, its top its head, at every range the scenario scores.
 TEST(FastDetector, PedestrianUnderAShelterRoofIsFound) {
   sim::Scene scene;
-  sim::SceneObject walker;
-  walker.type = "pedestrian";
-  walker.shape = sim::Shape::kCylinder;
-  walker.size = {0.5f, 0.5f, 1.7f};
-  walker.position = {42.0f, 4.6f, 0.0f};
-  scene.objects = {walker, block("shelter_roof", {3.0f, 1.8f, 0.1f}, {42.0f, 4.9f, 2.4f}),
+  scene.objects = {cylinder("pedestrian", 0.5f, 1.7f, {42.0f, 4.6f, 0.0f}), block("shelter_roof", {3.0f, 1.8f, 0.1f}, {42.0f, 4.9f, 2.4f}),
                    block("shelter_wall", {3.0f, 0.1f, 2.4f}, {42.0f, 5.8f, 0.0f})};
   // From 4 m behind (beside the vehicle) to 25 m ahead (further, fewer than 10 returns: the
   // evaluation does not score it). The walker's own box: centred on it, no wider than a person.
@@ -382,14 +389,7 @@ TEST(FastDetector, CanopyOverTheRoadIsNoObstacleAndWhatStandsUnderItIsFound) {
 // Issue 22, item 5: the parked cars of night_parked_cars (carla128, 0.72 deg columns, 1.8 m up),
 // rendered into base_link (the road at z = 0) with the carla_model3 profile's ROI.
 Cloud renderCarla128(const sim::Scene& scene, float sensor_x) {
-  std::mt19937_64 rng(13);
-  Cloud scan, cloud;
-  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
-  pose.translation() = Eigen::Vector3f(sensor_x, 0.0f, 1.8f);
-  sim::renderScan(scene, 0.0, pose, sim::LidarModel::carla128(), sim::NoiseParams(), rng, scan);
-  for (const Point& p : scan)
-    if (std::isfinite(p.x)) cloud.push_back(Point(p.x, p.y, p.z + 1.8f));
-  return cloud;
+  return renderMounted(scene, sim::LidarModel::carla128(), sensor_x, 1.8f, 13);
 }
 
 // A parked car's side seen from the lane beside it: the columns land 0.9 m apart on it at 15 m,
@@ -401,12 +401,8 @@ Cloud renderCarla128(const sim::Scene& scene, float sensor_x) {
 // the box it was: its top is not the car's.
 TEST(FastDetector, ParkedCarSideAtGrazingIncidenceGivesNoColumnBoxes) {
   sim::Scene scene;
-  sim::SceneObject pole;
-  pole.type = "pole";
-  pole.shape = sim::Shape::kCylinder;
-  pole.size = {0.15f, 0.15f, 3.0f};
-  pole.position = {0.0f, -3.0f, 0.0f};
-  scene.objects = {block("car", {4.7f, 1.9f, 1.5f}, {5.35f, -4.0f, 0.0f}), pole};
+  scene.objects = {block("car", {4.7f, 1.9f, 1.5f}, {5.35f, -4.0f, 0.0f}),
+                   cylinder("pole", 0.15f, 3.0f, {0.0f, -3.0f, 0.0f})};
   auto onCar = [](const Box3D& b, float car_x) {  // centre within the footprint grown by 0.5 m
     return std::abs(b.center.x() - car_x) <= 2.85f && std::abs(b.center.y() + 4.0f) <= 1.45f;
   };
