@@ -481,8 +481,10 @@ void FastDetector::dropGrazingColumns() {
     float lo = kInf, hi = -kInf;           // its points across the line of sight
     for (std::int32_t k = t.first_cell; k >= 0; k = next_in_cluster_[k]) {
       const Cell& cell = cells_[occupied_[k]];
-      for (const auto& q : {std::make_pair(cell.xmin_x, cell.xmin_y), std::make_pair(cell.xmax_x, cell.xmax_y),
-                            std::make_pair(cell.ymin_x, cell.ymin_y), std::make_pair(cell.ymax_x, cell.ymax_y)}) {
+      for (const auto& q : {std::make_pair(cell.xmin_x, cell.xmin_y),
+                            std::make_pair(cell.xmax_x, cell.xmax_y),
+                            std::make_pair(cell.ymin_x, cell.ymin_y),
+                            std::make_pair(cell.ymax_x, cell.ymax_y)}) {
         const float across = ux * q.second - uy * q.first;
         lo = std::min(lo, across);
         hi = std::max(hi, across);

@@ -244,8 +244,7 @@ Cloud renderStreet() {
   return organized;
 }
 
-// Issue 22, item 2: a 32-beam unit 1.9 m up (mount_roof32_clutter) rendered into base_link (the road
-// at z = 0), with the carla_model3 profile's ROI.
+// A scan from `height` above the road at (sensor_x, 0), in base_link (the road at z = 0).
 Cloud renderMounted(const sim::Scene& scene, const sim::LidarModel& model, float sensor_x,
                     float height, unsigned seed) {
   std::mt19937_64 rng(seed);
@@ -258,6 +257,8 @@ Cloud renderMounted(const sim::Scene& scene, const sim::LidarModel& model, float
   return cloud;
 }
 
+// Issue 22, item 2: a 32-beam unit 1.9 m up (mount_roof32_clutter), with the carla_model3
+// profile's ROI.
 Cloud renderRoof32(const sim::Scene& scene, float sensor_x) {
   return renderMounted(scene, sim::LidarModel::hdl32e(), sensor_x, 1.9f, 11);
 }
