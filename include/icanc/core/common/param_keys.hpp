@@ -63,6 +63,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("fast/max_height_m", p.fast.max_height_m);
   r("fast/overhang_gap_m", p.fast.overhang_gap_m);
   r("fast/overhang_min_height_m", p.fast.overhang_min_height_m);
+  r("fast/grazing_reach_m", p.fast.grazing_reach_m);
+  r("fast/grazing_angle_deg", p.fast.grazing_angle_deg);
   r("fast/min_points", p.fast.min_points);
   r("fast/max_points", p.fast.max_points);
 }

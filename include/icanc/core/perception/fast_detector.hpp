@@ -22,7 +22,11 @@
 //     differ by at most link_max_step_m, and the small pieces that gives (at most
 //     step_piece_max_m across: a pedestrian, a pole) come apart from the rest; cluster size
 //     limits on points, one box per cluster from its footprint (fitBoxFootprint, shared with the
-//     classic chain).
+//     classic chain). Surfaces seen at grazing incidence (a parked car's side): the scan's columns
+//     land further apart on them than link_m, a cluster each, at bearings fixed to the sensor; a
+//     cluster that is one line of sight is no box when a cluster of its height continues its
+//     surface nearly along that line (grazing_reach_m, grazing_angle_deg), so no box stays where a
+//     column is while the vehicle drives past.
 //
 // The beam (ring) of a point is never needed, so organized and unorganized clouds, with or
 // without a ring field, go through the same code. Every buffer lives in the FastDetector and is
@@ -72,6 +76,13 @@ struct FastDetectorParams {
                                     // alone are no obstacle; 0: off [m]
   float overhang_min_height_m = 2.3f;  // overhangs start this high: below, a gap between rows of
                                     // a sparse scan on a pedestrian never counts [m]
+  float grazing_reach_m = 2.5f;     // a cluster that is one line of sight (its points within
+                                    // cell_m / 2 across it: one column of the scan, e.g. on a car's
+                                    // side seen at grazing incidence) is no box when a cluster this
+                                    // close nearly along that line of sight (grazing_angle_deg),
+                                    // its top within link_max_step_m of its own, continues its
+                                    // surface; 0: off [m]
+  float grazing_angle_deg = 20.0f;  // ... at most this far off the line of sight [deg]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
 };
@@ -127,6 +138,7 @@ class FastDetector {
   };
   struct Cluster {
     std::int32_t count = 0;
+    std::int32_t cells = 0;  // 0: dropped (dropGrazingColumns)
     bool grounded = false;  // holds a cell that is not floating
     float zmin, zmax, xmin, xmax, ymin, ymax;
     std::int32_t first_cell = -1;  // linked list of its cells through next_in_cluster_
@@ -151,6 +163,8 @@ class FastDetector {
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
   void clusterAndFit(std::vector<Box3D>& boxes);
+  // Drops clusters that are one line of sight on a surface another cluster continues (grazing).
+  void dropGrazingColumns();
   std::int32_t find(std::int32_t k);
 
   CloudPrepParams prep_;
@@ -183,6 +197,8 @@ class FastDetector {
   std::vector<std::int32_t> next_in_cluster_;
   std::vector<std::int32_t> cluster_of_root_;
   std::vector<Cluster> clusters_;
+  std::vector<std::int32_t> cluster_of_slot_;  // cluster of each occupied slot
+  std::vector<std::int32_t> dropped_;          // scratch: clusters dropGrazingColumns drops
   std::vector<std::int32_t> first_root_;     // root of each slot after linking without steps
   std::vector<std::array<int, 4>> root_box_;  // per root: cell bounds x0 y0 x1 y1
   std::vector<std::uint8_t> long_;           // per root: longer than step_check_min_extent_m
