@@ -45,8 +45,9 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
 
   const Profile kitti = loadProfile(configDir() + "kitti_hdl64e.yaml");
   // The footprint margin is each profile's measured box bias (README: Predictive danger model):
-  // KITTI's labelled boxes reach 0.19-0.25 m beyond what the HDL-64E sees, the simulator's 0-0.07.
-  EXPECT_DOUBLE_EQ(kitti.danger.footprint_margin_m, 0.2);
+  // KITTI's labelled boxes reach 0.19-0.25 m beyond what the HDL-64E sees (the cyclist's sides
+  // 0.28-0.35 m: docs/evaluation.md), the simulator's 0-0.07.
+  EXPECT_DOUBLE_EQ(kitti.danger.footprint_margin_m, 0.3);
   EXPECT_DOUBLE_EQ(zebra.danger.footprint_margin_m, 0.0);
   EXPECT_DOUBLE_EQ(carla.danger.footprint_margin_m, 0.05);
   // Where each profile's target frame has the road (issue 22): base_link on it, KITTI's
