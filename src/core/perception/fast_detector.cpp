@@ -555,9 +555,9 @@ void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
       if (ray_begin_[j] >= 0) return static_cast<std::size_t>(ray_begin_[j]);
     return static_cast<std::size_t>(total);
   };
-  // (its first 3000 rays at most: the estimate sorts them)
+  // (its first 1500 rays at most: the estimate sorts them)
   const std::size_t first = static_cast<std::size_t>(ray_begin_[widest]);
-  if (!estimateRangeSteps(first, std::min(endOf(widest), first + 3000))) return;
+  if (!estimateRangeSteps(first, std::min(endOf(widest), first + 1500))) return;
   for (std::size_t i = 0; i < nc; ++i)
     if (ray_begin_[i] >= 0) splitCluster(i, static_cast<std::size_t>(ray_begin_[i]), endOf(i), boxes);
 }
