@@ -23,6 +23,10 @@
 //     step_piece_max_m across: a pedestrian, a pole) come apart from the rest; cluster size
 //     limits on points, one box per cluster from its footprint (fitBoxFootprint, shared with the
 //     classic chain).
+//  4. optionally (range_split_angle_deg > 0, off in the profiles: docs/performance.md), the
+//     range-image split of large components: the angle criterion of Bogoslavskyi & Stachniss
+//     between neighbouring returns by azimuth and elevation from the sensor (setSensorOrigin);
+//     pedestrian-sized segments in front of what they border on become their own obstacles.
 //
 // The beam (ring) of a point is never needed, so organized and unorganized clouds, with or
 // without a ring field, go through the same code. Every buffer lives in the FastDetector and is
