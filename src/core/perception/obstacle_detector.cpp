@@ -50,6 +50,7 @@ void ObstacleDetector::setParams(const ObstacleDetectorParams& params) {
   fast_.reset(params.method == DetectorMethod::kFast
                   ? new FastDetector(params.prep, params.fast, params.footprint_cell_m)
                   : nullptr);
+  if (fast_) fast_->setSensorOrigin(sensor_origin_);
 }
 
 MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const Cloud& cloud,

@@ -67,6 +67,13 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("fast/grazing_angle_deg", p.fast.grazing_angle_deg);
   r("fast/min_points", p.fast.min_points);
   r("fast/max_points", p.fast.max_points);
+  r("fast/range_split_angle_deg", p.fast.range_split_angle_deg);
+  r("fast/range_split_vertical_angle_deg", p.fast.range_split_vertical_angle_deg);
+  r("fast/range_split_min_extent_m", p.fast.range_split_min_extent_m);
+  r("fast/range_piece_max_m", p.fast.range_piece_max_m);
+  r("fast/range_piece_max_width_m", p.fast.range_piece_max_width_m);
+  r("fast/range_piece_min_height_m", p.fast.range_piece_min_height_m);
+  r("fast/range_piece_foreground", p.fast.range_piece_foreground);
 }
 
 template <class Reader>

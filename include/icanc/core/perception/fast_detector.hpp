@@ -27,6 +27,10 @@
 //     cluster that is one line of sight is no box when a cluster of its height continues its
 //     surface nearly along that line (grazing_reach_m, grazing_angle_deg), so no box stays where a
 //     column is while the vehicle drives past.
+//  4. optionally (range_split_angle_deg > 0, off in the profiles: docs/performance.md), the
+//     range-image split of large components: the angle criterion of Bogoslavskyi & Stachniss
+//     between neighbouring returns by azimuth and elevation from the sensor (setSensorOrigin);
+//     pedestrian-sized segments in front of what they border on become their own obstacles.
 //
 // The beam (ring) of a point is never needed, so organized and unorganized clouds, with or
 // without a ring field, go through the same code. Every buffer lives in the FastDetector and is
@@ -85,6 +89,26 @@ struct FastDetectorParams {
   float grazing_angle_deg = 20.0f;  // ... at most this far off the line of sight [deg]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
+  // Range-image split (issue 22, item 1; Bogoslavskyi & Stachniss's angle criterion): the points
+  // of a component at least range_split_min_extent_m across are laid out by azimuth (column) and
+  // elevation (row) as seen from the sensor; two neighbouring returns belong to one surface when
+  // the angle at the farther one between its beam and the line to the nearer exceeds
+  // range_split_angle_deg. Of the segments that gives, those no more than range_piece_max_m
+  // across (from above) and range_piece_max_width_m wide across the line of sight (a car's
+  // rear, 1.8 m, stays with its roof and sides), range_piece_min_height_m tall or more, and in
+  // front of what they border on side by side (nearer on at least range_piece_foreground of the
+  // pairs of neighbours in azimuth that are apart, or none: a gap) become their own obstacles;
+  // the rest of the component stays one. 0: off.
+  float range_split_angle_deg = 0.0f;
+  // ... between returns of neighbouring beams (rows, and diagonal neighbours) this angle: beams
+  // 1-2 deg apart see a pedestrian's head and the wall 0.9 m behind it at 18-25 deg, which
+  // range_split_angle_deg would call one surface; a vertical surface is 65-90 deg [deg].
+  float range_split_vertical_angle_deg = 45.0f;
+  float range_split_min_extent_m = 1.0f;  // [m]
+  float range_piece_max_m = 2.0f;         // [m]
+  float range_piece_max_width_m = 1.2f;   // [m]
+  float range_piece_min_height_m = 0.8f;  // [m]
+  float range_piece_foreground = 0.8f;    // [0, 1]
 };
 
 std::string validate(const FastDetectorParams& params);
@@ -110,6 +134,13 @@ class FastDetector {
   // point: lets a decoder feed pass 1 directly, without an intermediate cloud.
   template <class Source>
   void detectFrom(Source&& source, std::vector<Box3D>& boxes, FastStageTimes* times = nullptr);
+
+  // Where the sensor is in the frame the points are given in (range split only: rows and columns
+  // are elevation and azimuth from here; the sensor's own tilt is not corrected). Default: origin.
+  void setSensorOrigin(const Eigen::Vector3f& origin) { sensor_origin_ = origin; }
+  // Angular steps [deg] the range split measured (on the last frame that could tell; 0: none).
+  float rangeColumnDeg() const { return range_col_deg_; }
+  float rangeRowDeg() const { return range_row_deg_; }
 
   // Ground height [m] the last frame estimated under (x, y); NaN outside the grid.
   float groundAt(float x, float y) const;
@@ -142,6 +173,15 @@ class FastDetector {
     bool grounded = false;  // holds a cell that is not floating
     float zmin, zmax, xmin, xmax, ymin, ymax;
     std::int32_t first_cell = -1;  // linked list of its cells through next_in_cluster_
+    bool split = false;            // boxed by rangeSplit
+  };
+  struct Ray {  // an obstacle point of a cluster the range split looks at
+    float x, y, z;      // from the sensor [m]
+    float range2;       // squared range
+    float az, el;       // [rad]; az relative to the cluster's first ray
+    std::uint32_t point;  // index into points_
+    std::int32_t col, row;  // in the cluster's range image
+    std::int32_t pixel;     // its pixel; after linking, its piece (a ray index)
   };
 
   // What pass 1 reads per point, copied into a local of detectFrom: the stores into points_ then
@@ -166,6 +206,13 @@ class FastDetector {
   // Drops clusters that are one line of sight on a surface another cluster continues (grazing).
   void dropGrazingColumns();
   std::int32_t find(std::int32_t k);
+  // Range split of the clusters at least range_split_min_extent_m across: boxes of the split
+  // ones into `boxes`, each split cluster's `split` flag set (clusterAndFit boxes the others).
+  void rangeSplit(std::vector<Box3D>& boxes);
+  // From one cluster's rays; false when neither this frame nor an earlier one could tell.
+  bool estimateRangeSteps(std::size_t begin, std::size_t end);
+  void splitCluster(std::size_t cluster, std::size_t begin, std::size_t end,
+                    std::vector<Box3D>& boxes);
 
   CloudPrepParams prep_;
   FastDetectorParams params_;
@@ -208,6 +255,27 @@ class FastDetector {
   std::vector<cv::Point2f> footprint_;
   std::vector<std::pair<int, int>> forward_;  // neighbour offsets linked "forward" (half window)
   std::size_t obstacle_points_ = 0;
+  // Range split (off: none of these is touched).
+  Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();
+  float cos_split_ = 1.0f, cos_split_vertical_ = 1.0f;
+  float range_col_deg_ = 0.0f, range_row_deg_ = 0.0f;
+  std::vector<std::uint32_t> obstacle_index_;   // this frame's obstacle points (into points_)
+  std::vector<std::int32_t> ray_begin_;         // per cluster: its rays in rays_ (counting sort)
+  std::vector<Ray> rays_;
+  std::vector<std::int32_t> pixel_ray_;         // range image: nearest ray per pixel, -1 empty
+  std::vector<std::int32_t> pixel_parent_;      // union-find over the pixels
+  std::vector<std::array<std::int32_t, 2>> broken_;  // neighbour pixels apart: {nearer, farther}
+  std::vector<std::array<float, 2>> steps_;     // scratch: (key, value) to estimate the steps
+  std::vector<float> diffs_;
+  struct Piece {
+    std::int32_t count = 0, nearer = 0, farther = 0;
+    float xmin, xmax, ymin, ymax, zmin, zmax;
+    float colmin, colmax, range2;  // its columns, its nearest squared range
+    bool carved = false;
+    std::int32_t box = -1;         // carved: its number among the carved pieces
+  };
+  std::vector<Piece> pieces_;                   // per pixel root
+  std::vector<std::uint8_t> cell_carved_;       // per slot: holds a carved point
 };
 
 inline double fastNowMs() {

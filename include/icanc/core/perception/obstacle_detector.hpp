@@ -76,7 +76,11 @@ class ObstacleDetector {
   // Where the sensor is in the frame the clouds are given in (the vehicle frame): the tracker
   // measures the faces of each box nearest it (TrackAnchor). Default: the frame's origin. The
   // nodelet sets it from the cloud's transform every frame.
-  void setSensorOrigin(const Eigen::Vector3f& origin) { sensor_origin_ = origin; }
+  // The fast path's range split lays its rays out as seen from here too.
+  void setSensorOrigin(const Eigen::Vector3f& origin) {
+    sensor_origin_ = origin;
+    if (fast_) fast_->setSensorOrigin(origin);
+  }
 
   // How the vehicle moved since the previous frame (EgoStep::motion), for the next frame only: the
   // tracker re-expresses its tracks by it, so their velocities are over ground. Not set: the
