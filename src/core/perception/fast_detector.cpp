@@ -463,8 +463,8 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
     if (cluster_of_root_[root] < 0) {
       cluster_of_root_[root] = static_cast<std::int32_t>(clusters_.size());
       Cluster c;
-      c.zmin = c.xmin = c.ymin = kInf;
-      c.zmax = c.xmax = c.ymax = -kInf;
+      c.zmin = kInf;
+      c.zmax = -kInf;
       clusters_.push_back(c);
     }
     cluster_of_slot_[k] = cluster_of_root_[root];
@@ -518,7 +518,7 @@ void FastDetector::dropGrazingColumns() {
   const std::int32_t nc = static_cast<std::int32_t>(clusters_.size());
   const float thin = 0.5f * params_.cell_m;
   const float reach_m = params_.grazing_reach_m;
-  const float sin_max = std::sin(params_.grazing_angle_deg * static_cast<float>(M_PI / 180.0));
+  const float sin_max = std::sin(params_.grazing_angle_deg * kDeg);
   const float max_step = params_.link_max_step_m;
   const int reach = static_cast<int>(std::ceil(reach_m * inv_cell_));
   dropped_.clear();

@@ -171,7 +171,7 @@ class FastDetector {
     std::int32_t count = 0;
     std::int32_t cells = 0;  // 0: dropped (dropGrazingColumns)
     bool grounded = false;  // holds a cell that is not floating
-    float zmin, zmax, xmin, xmax, ymin, ymax;
+    float zmin, zmax;
     std::int32_t first_cell = -1;  // linked list of its cells through next_in_cluster_
     bool split = false;            // boxed by rangeSplit
   };
