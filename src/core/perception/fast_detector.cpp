@@ -50,6 +50,8 @@ std::string validate(const FastDetectorParams& p) {
   } else if (!(p.step_check_min_extent_m >= 0.0f && p.step_check_min_extent_m <= 1000.0f)) {
     why << "fast.step_check_min_extent_m must be in [0, 1000] (got " << p.step_check_min_extent_m
         << ")";
+  } else if (!(p.link_step_beams >= 0.0f && p.link_step_beams <= 5.0f)) {
+    why << "fast.link_step_beams must be in [0, 5] (got " << p.link_step_beams << ")";
   } else if (p.sectors < 8 || p.sectors > 3600) {
     why << "fast.sectors must be in [8, 3600] (got " << p.sectors << ")";
   } else if (!(p.range_bin_m >= 0.1f && p.range_bin_m <= 10.0f)) {
@@ -302,7 +304,7 @@ void FastDetector::markObstacles() {
   occupied_.clear();
   obstacle_points_ = 0;
   obstacle_index_.clear();
-  const bool record = params_.range_split_angle_deg > 0.0f;
+  const bool record = params_.range_split_angle_deg > 0.0f || params_.link_step_beams > 0.0f;
   for (std::int32_t cell : cut_cells_) cut_z_[static_cast<std::size_t>(cell)] = kInf;
   cut_cells_.clear();
   high_.clear();
@@ -377,17 +379,22 @@ std::int32_t FastDetector::find(std::int32_t k) {
   return k;
 }
 
-void FastDetector::linkCells(bool check_steps) {
+void FastDetector::linkCells(bool check_steps, float step_tan) {
   const std::int32_t n = static_cast<std::int32_t>(occupied_.size());
   parent_.resize(occupied_.size());
   std::iota(parent_.begin(), parent_.end(), 0);
-  const float max_step = params_.link_max_step_m;
   const float gap = params_.overhang_gap_m;
   for (std::int32_t k = 0; k < n; ++k) {
     const int cell = occupied_[k];
     const int cx = cell % nx_, cy = cell / nx_;
     const Cell& here = cells_[cell];
     const bool check = check_steps && long_[first_root_[k]];
+    float max_step = params_.link_max_step_m;
+    if (check && step_tan > 0.0f) {  // one beam spacing at this cell's range from the sensor
+      const float range = std::hypot(prep_.roi_min.x() + (cx + 0.5f) * params_.cell_m - sensor_origin_.x(),
+                                     prep_.roi_min.y() + (cy + 0.5f) * params_.cell_m - sensor_origin_.y());
+      max_step = std::max(max_step, range * step_tan);
+    }
     for (const auto& d : forward_) {
       const int x = cx + d.first, y = cy + d.second;
       if (x < 0 || x >= nx_ || y >= ny_) continue;
@@ -436,7 +443,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
       any = any || long_[k];
     }
     if (any) {
-      linkCells(true);
+      linkCells(true, params_.link_step_beams > 0.0f ? beamStepTangent() : 0.0f);
       // Of the pieces a long component fell into, only the small ones (a pedestrian, a pole: at
       // most step_piece_max_m across) come apart; the rest of it stays one obstacle, so a hedge
       // or a wall whose top varies does not break into fragments.
@@ -576,6 +583,42 @@ void FastDetector::dropGrazingColumns() {
   for (std::int32_t c : dropped_) clusters_[c].cells = 0;
 }
 
+FastDetector::Ray FastDetector::rayOf(std::uint32_t i) const {
+  const Kept& p = points_[i];
+  Ray r;
+  r.x = p.x - sensor_origin_.x();
+  r.y = p.y - sensor_origin_.y();
+  r.z = p.z - sensor_origin_.z();
+  const float xy2 = r.x * r.x + r.y * r.y;
+  r.range2 = xy2 + r.z * r.z;
+  r.az = fastAtan2(r.y, r.x);
+  r.el = fastAtan2(r.z, std::sqrt(xy2));
+  r.point = i;
+  return r;
+}
+
+float FastDetector::beamStepTangent() {
+  // The component with the most obstacle points (a wall, a car: many beams over one surface).
+  std::vector<std::int32_t>& points_of = pixel_parent_;  // scratch (the range split reuses it)
+  points_of.assign(occupied_.size(), 0);
+  std::int32_t widest = -1;
+  for (std::size_t k = 0; k < occupied_.size(); ++k) {
+    const std::int32_t root = first_root_[k];
+    points_of[root] += cells_[occupied_[k]].count;
+    if (widest < 0 || points_of[root] > points_of[widest]) widest = root;
+  }
+  if (widest < 0) return 0.0f;
+  // Its rays (the first 1500: the estimate sorts them), from the sensor.
+  rays_.clear();
+  for (std::uint32_t i : obstacle_index_) {
+    if (first_root_[cells_[points_[i].cell].slot] != widest) continue;
+    rays_.push_back(rayOf(i));
+    if (rays_.size() == 1500) break;
+  }
+  if (!estimateRangeSteps(0, rays_.size())) return 0.0f;
+  return std::tan(params_.link_step_beams * range_row_deg_ * kDeg);
+}
+
 void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
   // Clusters to look at: boxed ones (grounded, within the point limits) at least
   // range_split_min_extent_m across; one pedestrian alone is never split.
@@ -623,15 +666,7 @@ void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
     const Kept& p = points_[i];
     const std::int32_t cl = cluster_of_slot_[cells_[p.cell].slot];
     if (ray_begin_[cl] < 0) continue;
-    Ray& r = rays_[static_cast<std::size_t>(fill[cl]++)];
-    r.x = p.x - sensor_origin_.x();
-    r.y = p.y - sensor_origin_.y();
-    r.z = p.z - sensor_origin_.z();
-    const float xy2 = r.x * r.x + r.y * r.y;
-    r.range2 = xy2 + r.z * r.z;
-    r.az = fastAtan2(r.y, r.x);
-    r.el = fastAtan2(r.z, std::sqrt(xy2));
-    r.point = i;
+    rays_[static_cast<std::size_t>(fill[cl]++)] = rayOf(i);
   }
   // Cluster ends: the start of the next cluster that has rays.
   const auto endOf = [&](std::size_t i) {

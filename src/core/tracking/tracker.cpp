@@ -145,7 +145,8 @@ Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
 // The faces are taken along the track's face axes (fixed to the ground), from the boxes' hulls, so
 // a parked car's do not move while the vehicle turns. An object whose footprint is shorter than
 // params.face_min_extent_m both ways in both boxes is seen whole (a pedestrian, a bin): its
-// middles, two faces' noise averaged.
+// middles, two faces' noise averaged. With params.face_jump_m, along an axis where the extent
+// jumps by more than that, the face that moved less against the prediction.
 Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
                                     const Eigen::Vector3d& predicted_reference,
                                     float face_axes_yaw, const TrackerParams& params,
@@ -168,6 +169,16 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
       if (face == Face::kMiddle) face = nearestFace(pred, axis, axes, sensor, view);
     }
     moved[axis] = faceValue(det, axis, face) - faceValue(pred, axis, face);
+    if (params.anchor == TrackAnchor::kNearestFace && params.face_jump_m > 0.0f) {
+      // The extent jumped (a merge or a split with what stands close): the face that stayed (the
+      // smaller innovation against the prediction), when neither box has it at the region's edge.
+      const float lo = det.lo[axis] - pred.lo[axis], hi = det.hi[axis] - pred.hi[axis];
+      const Eigen::Vector2f dir = axes.row(axis).transpose();
+      if (std::abs(hi - lo) > params.face_jump_m && !cutAt(det.lo_at[axis], -dir, view) &&
+          !cutAt(pred.lo_at[axis], -dir, view) && !cutAt(det.hi_at[axis], dir, view) &&
+          !cutAt(pred.hi_at[axis], dir, view))
+        moved[axis] = std::abs(lo) < std::abs(hi) ? lo : hi;
+    }
   }
   Eigen::Vector3d z = predicted_reference;
   z.head<2>() += (axes.transpose() * moved).cast<double>();
@@ -217,6 +228,8 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.max_dt_s must be > 0 (got " << p.max_dt_s << ")";
   } else if (!(p.face_min_extent_m >= 0.0f) || !std::isfinite(p.face_min_extent_m)) {
     why << "tracker.face_min_extent_m must be >= 0 (got " << p.face_min_extent_m << ")";
+  } else if (!(p.face_jump_m >= 0.0f) || !std::isfinite(p.face_jump_m)) {
+    why << "tracker.face_jump_m must be >= 0 (got " << p.face_jump_m << ")";
   } else if (!(p.robust_sigma >= 0.0) || !std::isfinite(p.robust_sigma)) {
     why << "tracker.robust_sigma must be >= 0 (got " << p.robust_sigma << ")";
   } else if (p.anchor != TrackAnchor::kCentre && p.anchor != TrackAnchor::kNearestFace) {

@@ -445,6 +445,49 @@ TEST(FastDetector, ParkedCarSideAtGrazingIncidenceGivesNoColumnBoxes) {
   EXPECT_GT(columns_before, 10);  // before: the side fell apart into columns
 }
 
+// mount_robot16_clutter: a 16-beam unit (2 deg between beams) 0.5 m above the floor, driving
+// past a wall 3 m tall 2.85 m to the side, with the Zebra's ROI (top 2.5 m) and its step check on
+// every component. The wall's seen top is its highest beam below 2.5 m, which drops by one beam
+// spacing (0.35 m at 10 m) wherever a beam leaves the top as the range grows: the check cut the
+// wall there, at ranges fixed to the sensor, into pieces whose ends moved with the vehicle (a wall
+// tracked at the robot's 1.5 m/s: static objects' speed p90 1.50 m/s). With link_step_beams the
+// wall ahead is one box, its spacing measured from the returns; a pedestrian walking along it
+// 0.15 m off its face 8 m ahead stays a box of its own.
+TEST(FastDetector, SparseBeamsLeavingAWallsTopDoNotCutIt) {
+  sim::Scene scene;
+  scene.objects = {block("wall", {40.0f, 0.3f, 3.0f}, {15.0f, -3.0f, 0.0f})};
+  const CloudPrepParams zebra = roiAndEgo({-2.0f, -10.0f, -0.5f}, {30.0f, 10.0f, 2.5f},
+                                          {-0.6f, -0.45f, -0.5f}, {0.6f, 0.45f, 1.5f});
+  FastDetectorParams cut;
+  cut.step_check_min_extent_m = 0.0f;
+  cut.step_piece_max_m = 100.0f;
+  FastDetectorParams whole = cut;
+  whole.link_step_beams = 1.25f;
+  FastDetector before(zebra, cut), detector(zebra, whole);
+  before.setSensorOrigin({0.0f, 0.0f, 0.5f});
+  detector.setSensorOrigin({0.0f, 0.0f, 0.5f});
+  auto onWall = [](const Box3D& b) { return b.max.y() < -2.7f && b.max.x() > 10.0f; };
+  std::vector<Box3D> boxes;
+  int pieces_before = 0, frames = 0;
+  for (float sx = 0.0f; sx <= 6.0f; sx += 0.5f, ++frames) {
+    sim::Scene here = scene;  // the pedestrian keeps 8 m ahead
+    here.objects.push_back(cylinder("pedestrian", 0.5f, 1.75f, {sx + 8.0f, -2.45f, 0.0f}));
+    const Cloud cloud = renderMounted(here, sim::LidarModel::vlp16(), sx, 0.5f, 3);
+    before.detect(cloud, boxes);
+    for (const Box3D& b : boxes) pieces_before += onWall(b);
+    detector.detect(cloud, boxes);
+    int pieces = 0;
+    for (const Box3D& b : boxes) pieces += onWall(b);
+    EXPECT_EQ(pieces, 1) << "sensor at " << sx;
+    const Box3D* walker = boxAt(boxes, 8.0f, -2.45f, 0.4f);
+    ASSERT_NE(walker, nullptr) << "sensor at " << sx;
+    EXPECT_LT(walker->max.z(), 1.8f);
+    EXPECT_GT(walker->min.y(), -2.75f);
+  }
+  EXPECT_NEAR(detector.rangeRowDeg(), 2.0f, 0.1f);  // measured
+  EXPECT_GT(pieces_before, 2 * frames);             // before: three pieces or more a frame
+}
+
 TEST(FastDetector, OrganizedAndUnorganizedCloudsGiveTheSameObjects) {
   const Cloud organized = renderStreet();
   ASSERT_EQ(organized.height, 64u);
@@ -524,6 +567,9 @@ TEST(FastDetector, InvalidParametersAreNamed) {
   p = FastDetectorParams();
   p.step_check_min_extent_m = -1.0f;
   EXPECT_NE(validate(p).find("fast.step_check_min_extent_m"), std::string::npos);
+  p = FastDetectorParams();
+  p.link_step_beams = 6.0f;
+  EXPECT_NE(validate(p).find("fast.link_step_beams"), std::string::npos);
   p = FastDetectorParams();
   p.max_height_m = 0.1f;
   EXPECT_NE(validate(p).find("fast.max_height_m"), std::string::npos);

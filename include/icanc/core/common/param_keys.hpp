@@ -50,11 +50,13 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/anchor", anchor);
   p.tracker.anchor = parseTrackAnchor(anchor);
   r("tracker/face_min_extent_m", p.tracker.face_min_extent_m);
+  r("tracker/face_jump_m", p.tracker.face_jump_m);
   r("fast/cell_m", p.fast.cell_m);
   r("fast/link_m", p.fast.link_m);
   r("fast/link_max_step_m", p.fast.link_max_step_m);
   r("fast/step_check_min_extent_m", p.fast.step_check_min_extent_m);
   r("fast/step_piece_max_m", p.fast.step_piece_max_m);
+  r("fast/link_step_beams", p.fast.link_step_beams);
   r("fast/sectors", p.fast.sectors);
   r("fast/range_bin_m", p.fast.range_bin_m);
   r("fast/max_slope_deg", p.fast.max_slope_deg);

@@ -19,7 +19,9 @@
 //  3. obstacles: connected components (cells within link_m) of the occupied BEV cells (union-find
 //     over the occupied cells only); a component longer than step_check_min_extent_m (a wall, a
 //     hedge, and what stands against it) is linked again only between cells whose highest points
-//     differ by at most link_max_step_m, and the small pieces that gives (at most
+//     differ by at most link_max_step_m (or, with link_step_beams, by the sensor's beam spacing
+//     at their range, measured from the returns: where a sparse scan's top beam leaves a wall's
+//     top), and the small pieces that gives (at most
 //     step_piece_max_m across: a pedestrian, a pole) come apart from the rest; cluster size
 //     limits on points, one box per cluster from its footprint (fitBoxFootprint, shared with the
 //     classic chain). Surfaces seen at grazing incidence (a parked car's side): the scan's columns
@@ -67,6 +69,15 @@ struct FastDetectorParams {
                                     // pedestrians but raised false danger (docs/performance.md) [m]
   float step_piece_max_m = 1.0f;    // of the pieces the check makes, those at most this across
                                     // come apart; the rest of the component stays one [m]
+  float link_step_beams = 0.0f;     // > 0: the check lets the tops of neighbouring cells at range
+                                    // r from the sensor differ by r * tan(this many of the sensor's
+                                    // vertical beam spacings) when that is more than
+                                    // link_max_step_m. On a sparse scan the top beam on a long
+                                    // surface leaves its top edge (or the ROI's top) at fixed
+                                    // ranges, where the seen top drops by one spacing (0.35 m at
+                                    // 10 m on a 16-beam unit): the check cut a wall there into
+                                    // pieces that stay with the vehicle. The spacing is measured
+                                    // from the returns as the range split does; 0: off
   int sectors = 180;                // polar ground grid: angular sectors over 360 deg
   float range_bin_m = 1.0f;         // polar ground grid: radial bin [m]
   float max_slope_deg = 10.0f;      // ground may rise or fall this steeply between bins
@@ -199,7 +210,9 @@ class FastDetector {
   void estimateGround();
   void markObstacles();
   inline void addObstacle(const Kept& p);  // into its BEV cell's accumulator
-  void linkCells(bool check_steps);  // union-find over occupied_ into parent_
+  // Union-find over occupied_ into parent_; with check_steps, tops may differ by
+  // max(link_max_step_m, range * step_tan) inside long components.
+  void linkCells(bool check_steps, float step_tan = 0.0f);
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
   void clusterAndFit(std::vector<Box3D>& boxes);
@@ -209,8 +222,12 @@ class FastDetector {
   // Range split of the clusters at least range_split_min_extent_m across: boxes of the split
   // ones into `boxes`, each split cluster's `split` flag set (clusterAndFit boxes the others).
   void rangeSplit(std::vector<Box3D>& boxes);
+  Ray rayOf(std::uint32_t point) const;  // points_[point] seen from the sensor origin
   // From one cluster's rays; false when neither this frame nor an earlier one could tell.
   bool estimateRangeSteps(std::size_t begin, std::size_t end);
+  // tan(link_step_beams beam spacings) from the rays of the component with the most points of the
+  // first linking (first_root_); 0 when the spacing is unknown.
+  float beamStepTangent();
   void splitCluster(std::size_t cluster, std::size_t begin, std::size_t end,
                     std::vector<Box3D>& boxes);
 

@@ -68,6 +68,12 @@ struct TrackerParams {
   // middle is measured (two faces' noise averaged) [m]. 1.5: pedestrians, bins, chairs; a car
   // (1.8 m wide) keeps its near faces even where only its rear is seen.
   float face_min_extent_m = 1.5f;
+  // kNearestFace: when a box's extent along a face axis changes by more than this from the
+  // predicted box to the detection (something standing close joined it or came apart from it: a
+  // pedestrian beside a wall, a parked car), the face that moved less is measured on that axis,
+  // not the face toward the sensor nor the middle: the jump is the other object, not motion. An
+  // object that moves moves both faces. 0: off [m].
+  float face_jump_m = 0.0f;
 };
 
 std::string validate(const TrackerParams& params);
