@@ -376,6 +376,7 @@ int main(int argc, char** argv) {
     classic.cluster.tolerance_m = 0.6f;
     classic.cluster.min_points = 10;
     classic.cluster.max_points = 5000;
+    classic.cluster.grazing = loaded.detector.cluster.grazing;  // the profile's column rule
     ObstacleDetectorParams fast = loaded.detector;
     fast.method = icanc::DetectorMethod::kFast;
     std::printf("icanc_bench: profile %s, one thread\n\n", profile.c_str());
