@@ -155,7 +155,9 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     if (plan.width > 0) {
       const auto source = [&](auto&& sink) { icanc::forEachXYZ(raw, plan, identity, sink); };
       // As the nodelet reads it: only every input_stride-th point decoded.
-      const icanc::DecodePlan thinned_plan = icanc::everyNthPoint(plan, odometry_params.input_stride);
+      // (Both odometry instances have read as many frames: the same phase.)
+      const icanc::DecodePlan thinned_plan =
+          icanc::everyNthPoint(plan, odometry_params.input_stride, odometry.sourcePhase());
       const auto thinned = [&](auto&& sink) { icanc::forEachXYZ(raw, thinned_plan, identity, sink); };
       constexpr auto kBySource = icanc::LidarOdometry::Thinning::kBySource;
       t0 = icanc::fastNowMs();
