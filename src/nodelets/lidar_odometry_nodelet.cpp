@@ -102,7 +102,8 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     if (!lookupMount(msg->header, mount)) return;
 
     // The points input_stride skips are not decoded at all.
-    const DecodePlan thinned = everyNthPoint(plan, odometry_->params().input_stride);
+    const DecodePlan thinned =
+        everyNthPoint(plan, odometry_->params().input_stride, odometry_->sourcePhase());
     const Eigen::Isometry3d pose = odometry_->registerFrom(
         msg->header.stamp.toSec(), [&](auto&& sink) { forEachXYZ(raw, thinned, mount, sink); },
         LidarOdometry::Thinning::kBySource);

@@ -155,7 +155,9 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     if (plan.width > 0) {
       const auto source = [&](auto&& sink) { icanc::forEachXYZ(raw, plan, identity, sink); };
       // As the nodelet reads it: only every input_stride-th point decoded.
-      const icanc::DecodePlan thinned_plan = icanc::everyNthPoint(plan, odometry_params.input_stride);
+      // (Both odometry instances have read as many frames: the same phase.)
+      const icanc::DecodePlan thinned_plan =
+          icanc::everyNthPoint(plan, odometry_params.input_stride, odometry.sourcePhase());
       const auto thinned = [&](auto&& sink) { icanc::forEachXYZ(raw, thinned_plan, identity, sink); };
       constexpr auto kBySource = icanc::LidarOdometry::Thinning::kBySource;
       t0 = icanc::fastNowMs();
@@ -376,6 +378,7 @@ int main(int argc, char** argv) {
     classic.cluster.tolerance_m = 0.6f;
     classic.cluster.min_points = 10;
     classic.cluster.max_points = 5000;
+    classic.cluster.grazing = loaded.detector.cluster.grazing;  // the profile's column rule
     ObstacleDetectorParams fast = loaded.detector;
     fast.method = icanc::DetectorMethod::kFast;
     std::printf("icanc_bench: profile %s, one thread\n\n", profile.c_str());

@@ -1,8 +1,9 @@
 // icanc_sim_odometry: the LiDAR odometry on simulated scenarios (issue 19: every scenario evaluated
 // with `ego_motion/source: lidar` as well as `tf`). Each scenario is rendered as icanc_sim_bag
-// renders it (same seed, sensor, mount and noise), each scan moved into base_link by the sensor's
-// mount and registered with the scenario profile's lidar_odometry section; the estimate is compared
-// with the scripted vehicle pose at every frame.
+// renders it (same seed, sensor, mount and noise), read as the LidarOdometry nodelet reads the
+// organized cloud (every input_stride-th point of each row, from its phase), moved into base_link
+// by the sensor's mount and registered with the scenario profile's lidar_odometry section; the
+// estimate is compared with the scripted vehicle pose at every frame.
 //
 //   icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--trace]
 // Prints per scenario the worst position and yaw error, the worst forward-speed error after the
@@ -45,19 +46,31 @@ void follow(const std::string& path, bool trace) {
     const double t = double(f) / s.rate_hz;
     icanc::Cloud cloud;
     icanc::sim::renderScan(s.scene, t, s.sensorPose(t), model, s.noise, rng, cloud);
-    std::vector<Eigen::Vector3f> points;
-    points.reserve(cloud.size());
     std::size_t above = 0, below = 0;
     for (const auto& p : cloud.points) {
       if (!std::isfinite(p.x)) continue;
       const Eigen::Vector3f q = s.sensor_mount * Eigen::Vector3f(p.x, p.y, p.z);
       const double r = q.head<2>().norm();
       if (r >= params.min_range_m && r <= params.max_range_m) ++(q.z() < params.ground_max_z_m ? below : above);
-      points.push_back(q);
     }
     structure.push_back(double(above));
     road.push_back(double(below));
-    const Eigen::Isometry3d estimate = odometry.registerFrame(t, points);
+    // Read as the LidarOdometry nodelet reads a driver's organized cloud: every input_stride-th
+    // point of each row from the odometry's phase (everyNthPoint), NaNs skipped.
+    const std::size_t stride = static_cast<std::size_t>(std::max(1, params.input_stride));
+    const std::size_t phase = odometry.sourcePhase();
+    const Eigen::Isometry3d estimate = odometry.registerFrom(
+        t,
+        [&](auto&& sink) {
+          for (std::uint32_t row = 0; row < cloud.height; ++row)
+            for (std::size_t c = phase; c < cloud.width; c += stride) {
+              const auto& p = cloud.points[row * cloud.width + c];
+              if (!std::isfinite(p.x)) continue;
+              const Eigen::Vector3f q = s.sensor_mount * Eigen::Vector3f(p.x, p.y, p.z);
+              sink(q.x(), q.y(), q.z());
+            }
+        },
+        icanc::LidarOdometry::Thinning::kBySource);
     const Eigen::Isometry3d truth = start_inv * s.vehiclePose(t).cast<double>();
     const double position = (estimate.translation() - truth.translation()).norm();
     const double yaw = std::fabs(std::remainder(yawOf(estimate) - yawOf(truth), 2.0 * M_PI));

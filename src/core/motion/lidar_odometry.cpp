@@ -159,7 +159,8 @@ void LidarOdometry::beginFrame(Thinning thinning) {
   input_points_ = 0;
   stride_ = thinning == Thinning::kBySource ? 1 : params_.input_stride;
   last_key_ = ~0ull;
-  stride_count_ = stride_ - 1;  // the first point is read
+  // Points phase, phase + stride, ... are read (sourcePhase: a different set every frame).
+  stride_count_ = stride_ - 1 - static_cast<int>(thinning == Thinning::kBySource ? 0 : sourcePhase());
   frame_set_.clear();
   frame_.clear();
 }

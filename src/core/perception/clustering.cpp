@@ -19,6 +19,8 @@ std::string validate(const ClusterParams& params) {
   } else if (params.max_points < params.min_points) {
     why << "cluster.max_points must be >= cluster.min_points = " << params.min_points << " (got "
         << params.max_points << ")";
+  } else {
+    why << validate(params.grazing, "cluster.");
   }
   return why.str();
 }

@@ -76,6 +76,10 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
   ground_ = removeGround(prepared_, params_.ground, nonground_);
   const auto t2 = Clock::now();
   detections_ = clusterBoxes(nonground_, params_.cluster, params_.footprint_cell_m);
+  GrazingColumnParams grazing = params_.cluster.grazing;
+  // One line of sight: the points (voxel centroids) of one column lie within half a voxel.
+  if (params_.prep.voxel_leaf_m > 0.0f) grazing.thin_m = 0.5f * params_.prep.voxel_leaf_m;
+  dropGrazingColumnBoxes(detections_, sensor_origin_.head<2>(), grazing);
   const auto t3 = Clock::now();
   if (times) {
     times->prep_ms = ms(t0, t1);

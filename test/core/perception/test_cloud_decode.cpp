@@ -125,6 +125,18 @@ TEST(CloudDecode, EveryNthPointReadsOnlyThoseOfEachRow) {
   EXPECT_EQ(read(everyNthPoint(plan, 1)).size(), 10u);
   EXPECT_EQ(read(everyNthPoint(plan, 0)).size(), 10u);
   EXPECT_EQ(read(everyNthPoint(plan, 7)).size(), 2u);  // a stride beyond the row: its first
+  // From a phase: 1, 3 of each row for 2; 2 of each row for 3 from 2; the phase modulo the stride.
+  const std::vector<Eigen::Vector3f> odd = read(everyNthPoint(plan, 2, 1));
+  ASSERT_EQ(odd.size(), 4u);
+  const int expected_odd[] = {1, 3, 6, 8};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(odd[i], pts[expected_odd[i]]) << i;
+  const std::vector<Eigen::Vector3f> from2 = read(everyNthPoint(plan, 3, 2));
+  ASSERT_EQ(from2.size(), 2u);
+  EXPECT_EQ(from2[0], pts[2]);
+  EXPECT_EQ(from2[1], pts[7]);
+  EXPECT_EQ(read(everyNthPoint(plan, 2, 3)), odd);
+  EXPECT_EQ(read(everyNthPoint(plan, 6, 5)).size(), 0u);  // past the row's end: nothing
+  EXPECT_EQ(read(everyNthPoint(plan, 1, 1)).size(), 10u);
 }
 
 TEST(CloudDecode, EmptyCloud) {

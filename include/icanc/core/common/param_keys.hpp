@@ -35,6 +35,9 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("cluster/tolerance_m", p.cluster.tolerance_m);
   r("cluster/min_points", p.cluster.min_points);
   r("cluster/max_points", p.cluster.max_points);
+  r("cluster/grazing_reach_m", p.cluster.grazing.reach_m);
+  r("cluster/grazing_angle_deg", p.cluster.grazing.angle_deg);
+  r("cluster/grazing_max_step_m", p.cluster.grazing.max_step_m);
   r("tracker/gate_distance_m", p.tracker.gate_distance_m);
   r("tracker/iou_weight", p.tracker.iou_weight);
   r("tracker/min_hits_to_confirm", p.tracker.min_hits_to_confirm);

@@ -79,12 +79,20 @@ struct DecodePlan {
 // The layout checks of decodeXYZ alone: kNone and `plan` filled when the cloud can be read.
 DecodeError planDecode(const RawCloud& in, std::size_t max_points, DecodePlan& plan);
 
-// `plan` reading only every n-th point of each row (points 0, n, 2n, ...; n 0 or 1: all of them).
-// A consumer that wants a thinned cloud (LidarOdometry's input_stride) then never decodes the
-// points it would skip.
-inline DecodePlan everyNthPoint(DecodePlan plan, std::size_t n) {
+// `plan` reading only every n-th point of each row, from point `phase` on (points phase,
+// phase + n, ...; n 0 or 1: all of them; phase taken modulo n). A consumer that wants a thinned
+// cloud (LidarOdometry's input_stride) then never decodes the points it would skip.
+inline DecodePlan everyNthPoint(DecodePlan plan, std::size_t n, std::size_t phase = 0) {
   if (n <= 1 || plan.width == 0) return plan;
-  plan.width = (plan.width + n - 1) / n;
+  phase %= n;
+  if (phase >= plan.width) {
+    plan.width = 0;
+    return plan;
+  }
+  plan.ox += phase * plan.point_step;
+  plan.oy += phase * plan.point_step;
+  plan.oz += phase * plan.point_step;
+  plan.width = (plan.width - phase + n - 1) / n;
   plan.point_step *= n;
   return plan;
 }
