@@ -134,14 +134,7 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     fs.add(t, cloud.size());
     // As the nodelet gets it: a PointCloud2-shaped buffer (x y z + 4 bytes, the KITTI layout),
     // decoded into a cloud then detected, or read by the fast path's first pass directly.
-    icanc::RawCloud raw;
-    raw.width = static_cast<std::uint32_t>(cloud.size());
-    raw.height = 1;
-    raw.point_step = sizeof(icanc::Point);
-    raw.row_step = raw.width * raw.point_step;
-    raw.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}};
-    raw.data = reinterpret_cast<const std::uint8_t*>(cloud.points.data());
-    raw.data_size = cloud.size() * sizeof(icanc::Point);
+    const icanc::RawCloud raw = icanc::rawView(cloud);
     const Eigen::Affine3f identity = Eigen::Affine3f::Identity();
     double t0 = icanc::fastNowMs();
     icanc::decodeXYZ(raw, identity, 10000000, decoded);

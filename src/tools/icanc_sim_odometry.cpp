@@ -15,12 +15,14 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "icanc/core/common/percentile.hpp"
 #include "icanc/core/common/yaml_params.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
+#include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
 #include "tool_help.hpp"
@@ -39,6 +41,7 @@ void follow(const std::string& path, bool trace) {
   const icanc::sim::LidarModel model = icanc::sim::LidarModel::byName(s.lidar);
   std::mt19937_64 rng(s.seed);
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
+  const Eigen::Affine3f mount(s.sensor_mount.matrix());  // sensor frame -> base_link
   double worst_position = 0.0, worst_yaw = 0.0, worst_speed = 0.0;
   std::size_t registered = 0;
   std::vector<double> structure, road, observability;
@@ -49,27 +52,22 @@ void follow(const std::string& path, bool trace) {
     std::size_t above = 0, below = 0;
     for (const auto& p : cloud.points) {
       if (!std::isfinite(p.x)) continue;
-      const Eigen::Vector3f q = s.sensor_mount * Eigen::Vector3f(p.x, p.y, p.z);
+      const Eigen::Vector3f q = mount * Eigen::Vector3f(p.x, p.y, p.z);
       const double r = q.head<2>().norm();
       if (r >= params.min_range_m && r <= params.max_range_m) ++(q.z() < params.ground_max_z_m ? below : above);
     }
     structure.push_back(double(above));
     road.push_back(double(below));
-    // Read as the LidarOdometry nodelet reads a driver's organized cloud: every input_stride-th
-    // point of each row from the odometry's phase (everyNthPoint), NaNs skipped.
-    const std::size_t stride = static_cast<std::size_t>(std::max(1, params.input_stride));
-    const std::size_t phase = odometry.sourcePhase();
+    // Read as the LidarOdometry nodelet reads a driver's organized cloud: only every
+    // input_stride-th point of each row decoded, from the odometry's phase.
+    const icanc::RawCloud raw = icanc::rawView(cloud);
+    icanc::DecodePlan plan;
+    if (icanc::planDecode(raw, cloud.size(), plan) != icanc::DecodeError::kNone)
+      throw std::runtime_error("rendered scan not decodable");
+    const icanc::DecodePlan thinned =
+        icanc::everyNthPoint(plan, static_cast<std::size_t>(params.input_stride), odometry.sourcePhase());
     const Eigen::Isometry3d estimate = odometry.registerFrom(
-        t,
-        [&](auto&& sink) {
-          for (std::uint32_t row = 0; row < cloud.height; ++row)
-            for (std::size_t c = phase; c < cloud.width; c += stride) {
-              const auto& p = cloud.points[row * cloud.width + c];
-              if (!std::isfinite(p.x)) continue;
-              const Eigen::Vector3f q = s.sensor_mount * Eigen::Vector3f(p.x, p.y, p.z);
-              sink(q.x(), q.y(), q.z());
-            }
-        },
+        t, [&](auto&& sink) { icanc::forEachXYZ(raw, thinned, mount, sink); },
         icanc::LidarOdometry::Thinning::kBySource);
     const Eigen::Isometry3d truth = start_inv * s.vehiclePose(t).cast<double>();
     const double position = (estimate.translation() - truth.translation()).norm();

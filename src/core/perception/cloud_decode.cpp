@@ -1,5 +1,7 @@
 #include "icanc/core/perception/cloud_decode.hpp"
 
+#include <cstddef>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -46,6 +48,20 @@ std::uint64_t coordinateSize(std::uint8_t datatype) {
 }
 
 }  // namespace
+
+RawCloud rawView(const Cloud& cloud) {
+  RawCloud raw;
+  raw.width = cloud.width;
+  raw.height = cloud.height;
+  raw.point_step = sizeof(Point);
+  raw.row_step = raw.width * raw.point_step;
+  raw.fields = {{"x", offsetof(Point, x), static_cast<std::uint8_t>(FieldType::kFloat32), 1},
+                {"y", offsetof(Point, y), static_cast<std::uint8_t>(FieldType::kFloat32), 1},
+                {"z", offsetof(Point, z), static_cast<std::uint8_t>(FieldType::kFloat32), 1}};
+  raw.data = reinterpret_cast<const std::uint8_t*>(cloud.points.data());
+  raw.data_size = cloud.points.size() * sizeof(Point);
+  return raw;
+}
 
 DecodeError planDecode(const RawCloud& in, std::size_t max_points, DecodePlan& plan) {
   // Every size below is computed in 64 bits from 32-bit inputs, so no product can overflow

@@ -113,6 +113,7 @@ TEST(LidarOdometry, ColumnsReadAtTheSourceTurnWithEveryFrame) {
   ASSERT_EQ(profile.lidar_odometry.input_stride, 2);
   const sim::LidarModel model = sim::LidarModel::byName(s.lidar);
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
+  const Eigen::Affine3f mount(s.sensor_mount.matrix());
   const auto worstError = [&](bool turning_phase) {
     LidarOdometry odometry(profile.lidar_odometry);
     std::mt19937_64 rng(s.seed);
@@ -121,18 +122,12 @@ TEST(LidarOdometry, ColumnsReadAtTheSourceTurnWithEveryFrame) {
       const double t = double(f) / s.rate_hz;
       Cloud scan;
       sim::renderScan(s.scene, t, s.sensorPose(t), model, s.noise, rng, scan);
-      const std::size_t phase = turning_phase ? odometry.sourcePhase() : 0;
+      const RawCloud raw = rawView(scan);  // as the nodelet reads the driver's organized cloud
+      DecodePlan plan;
+      EXPECT_EQ(planDecode(raw, scan.size(), plan), DecodeError::kNone);
+      const DecodePlan thinned = everyNthPoint(plan, 2, turning_phase ? odometry.sourcePhase() : 0);
       const Eigen::Isometry3d estimate = odometry.registerFrom(
-          t,
-          [&](auto&& sink) {
-            for (std::uint32_t row = 0; row < scan.height; ++row)
-              for (std::uint32_t c = phase; c < scan.width; c += 2) {
-                const Point& p = scan.points[row * scan.width + c];
-                if (!std::isfinite(p.x)) continue;
-                const Eigen::Vector3f q = s.sensor_mount * Eigen::Vector3f(p.x, p.y, p.z);
-                sink(q.x(), q.y(), q.z());
-              }
-          },
+          t, [&](auto&& sink) { forEachXYZ(raw, thinned, mount, sink); },
           LidarOdometry::Thinning::kBySource);
       const Eigen::Isometry3d truth = start_inv * s.vehiclePose(t).cast<double>();
       worst = std::max(worst, (estimate.translation() - truth.translation()).norm());

@@ -139,6 +139,29 @@ TEST(CloudDecode, EveryNthPointReadsOnlyThoseOfEachRow) {
   EXPECT_EQ(read(everyNthPoint(plan, 1, 1)).size(), 10u);
 }
 
+TEST(CloudDecode, RawViewOfAnOrganizedCloudKeepsItsRows) {
+  // Two rows of three, a no-return (NaN) in the second: the view reads what a driver's message
+  // with the same points would, and every 2nd point of each row from phase 1 is column 1.
+  Cloud cloud;
+  cloud.width = 3;
+  cloud.height = 2;
+  cloud.points = {Point(1, 0, 0), Point(2, 0, 0), Point(3, 0, 0),
+                  Point(4, 0, 0), Point(NAN, NAN, NAN), Point(6, 0, 0)};
+  const RawCloud raw = rawView(cloud);
+  EXPECT_EQ(raw.width, 3u);
+  EXPECT_EQ(raw.height, 2u);
+  DecodePlan plan;
+  ASSERT_EQ(planDecode(raw, kMax, plan), DecodeError::kNone);
+  const auto read = [&](const DecodePlan& p) {
+    std::vector<float> xs;
+    forEachXYZ(raw, p, Eigen::Affine3f::Identity(), [&](float x, float, float) { xs.push_back(x); });
+    return xs;
+  };
+  EXPECT_EQ(read(plan), (std::vector<float>{1, 2, 3, 4, 6}));
+  EXPECT_EQ(read(everyNthPoint(plan, 2, 1)), (std::vector<float>{2}));
+  EXPECT_EQ(read(everyNthPoint(plan, 2)), (std::vector<float>{1, 3, 4, 6}));
+}
+
 TEST(CloudDecode, EmptyCloud) {
   Message m = makeXYZI(somePoints(4));
   Cloud out;

@@ -76,6 +76,11 @@ struct DecodePlan {
   std::size_t point_step = 0, row_step = 0, width = 0, height = 0;
 };
 
+// A cloud of this project's points seen as the PointCloud2 buffer a driver would publish: x, y, z
+// float32 at offsets 0, 4, 8 of each padded point, its rows and columns as the cloud has them
+// (organized scans keep their beams and azimuths). No copy: valid while `cloud` lives unchanged.
+RawCloud rawView(const Cloud& cloud);
+
 // The layout checks of decodeXYZ alone: kNone and `plan` filled when the cloud can be read.
 DecodeError planDecode(const RawCloud& in, std::size_t max_points, DecodePlan& plan);
 
