@@ -10,13 +10,16 @@ namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-// The box's outline seen from above: its hull, else its axis-aligned corners.
-std::vector<Eigen::Vector2f> outline(const Box3D& box) {
+// The box's outline seen from above: its hull, else its axis-aligned corners (written into
+// `corners`; the hull is not copied).
+const std::vector<Eigen::Vector2f>& outline(const Box3D& box,
+                                            std::vector<Eigen::Vector2f>& corners) {
   if (!box.hull.empty()) return box.hull;
-  return {{box.min.x(), box.min.y()},
-          {box.max.x(), box.min.y()},
-          {box.max.x(), box.max.y()},
-          {box.min.x(), box.max.y()}};
+  corners = {{box.min.x(), box.min.y()},
+             {box.max.x(), box.min.y()},
+             {box.max.x(), box.max.y()},
+             {box.min.x(), box.max.y()}};
+  return corners;
 }
 
 // Roots of a t^2 + b t + c in [0, 1], appended to `out`.
@@ -61,7 +64,8 @@ bool segmentInCone(const Eigen::Vector2d& c, const Eigen::Vector2d& u, double s,
 
 // Whether any footprint part (else the hull) of `box` lies within reach of c in the cone.
 bool continuesAlong(const Box3D& box, const Eigen::Vector2d& c, const Eigen::Vector2d& u, double s,
-                    double reach, std::vector<double>& scratch) {
+                    double reach, std::vector<double>& scratch,
+                    std::vector<Eigen::Vector2f>& corners) {
   if (box.min.x() > c.x() + reach || box.max.x() < c.x() - reach || box.min.y() > c.y() + reach ||
       box.max.y() < c.y() - reach)
     return false;
@@ -75,7 +79,7 @@ bool continuesAlong(const Box3D& box, const Eigen::Vector2d& c, const Eigen::Vec
     }
     return false;
   }
-  const std::vector<Eigen::Vector2f> hull = outline(box);
+  const std::vector<Eigen::Vector2f>& hull = outline(box, corners);
   for (std::size_t k = 0; k < hull.size(); ++k) {
     const Eigen::Vector2d a = hull[k].cast<double>(), b = hull[(k + 1) % hull.size()].cast<double>();
     if (segmentInCone(c, u, s, reach, a, b, scratch)) return true;
@@ -106,10 +110,11 @@ std::size_t dropGrazingColumnBoxes(std::vector<Box3D>& boxes, const Eigen::Vecto
   const double s = std::sin(params.angle_deg * kDeg);
   std::vector<char> dropped(boxes.size(), 0);
   std::vector<double> scratch;
+  std::vector<Eigen::Vector2f> corners, other_corners;
   std::size_t count = 0;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const Box3D& column = boxes[i];
-    const std::vector<Eigen::Vector2f> hull = outline(column);
+    const std::vector<Eigen::Vector2f>& hull = outline(column, corners);
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
     for (const Eigen::Vector2f& v : hull) c += v.cast<double>();
     c /= static_cast<double>(hull.size());
@@ -129,7 +134,7 @@ std::size_t dropGrazingColumnBoxes(std::vector<Box3D>& boxes, const Eigen::Vecto
     if (across_hi - across_lo > params.thin_m || along_hi - along_lo > params.max_length_m) continue;
     for (std::size_t j = 0; j < boxes.size(); ++j) {
       if (j == i || std::abs(boxes[j].max.z() - column.max.z()) > params.max_step_m) continue;
-      if (continuesAlong(boxes[j], c, u, s, params.reach_m, scratch)) {
+      if (continuesAlong(boxes[j], c, u, s, params.reach_m, scratch, other_corners)) {
         dropped[i] = 1;
         ++count;
         break;

@@ -18,6 +18,7 @@
 #include "icanc/core/perception/obstacle_detector.hpp"
 #include "icanc/core/common/yaml_params.hpp"
 #include "icanc/sim/lidar_sim.hpp"
+#include "scene_objects.hpp"
 
 namespace icanc {
 namespace {
@@ -268,21 +269,8 @@ CloudPrepParams roofRoi() {  // carla_model3's
                    {2.5f, 1.05f, 1.6f});
 }
 
-sim::SceneObject block(const std::string& type, const Eigen::Vector3f& size,
-                       const Eigen::Vector3f& bottom_centre) {
-  sim::SceneObject o;
-  o.type = type;
-  o.size = size;
-  o.position = bottom_centre;
-  return o;
-}
-
-sim::SceneObject cylinder(const std::string& type, float diameter, float height,
-                          const Eigen::Vector3f& bottom_centre) {
-  sim::SceneObject o = block(type, {diameter, diameter, height}, bottom_centre);
-  o.shape = sim::Shape::kCylinder;
-  return o;
-}
+using test_scene::block;
+using test_scene::cylinder;
 
 // The box whose centre is nearest (x, y), if within `tolerance`.
 const Box3D* boxAt(const std::vector<Box3D>& boxes, float x, float y, float tolerance) {

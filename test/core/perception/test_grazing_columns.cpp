@@ -12,6 +12,7 @@
 #include "icanc/core/common/yaml_params.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
 #include "icanc/sim/lidar_sim.hpp"
+#include "scene_objects.hpp"
 
 namespace icanc {
 namespace {
@@ -123,16 +124,9 @@ TEST(GrazingColumns, ClassicChainGivesNoColumnBoxesOnAFacade) {
   off.cluster.grazing.reach_m = 0.0f;
   ObstacleDetector with_rule(on), without_rule(off);
   sim::Scene scene;
-  sim::SceneObject facade;
-  facade.type = "building";
-  facade.size = {40.0f, 10.0f, 9.0f};
-  facade.position = {20.0f, -11.0f, 0.0f};  // its face on y = -6, x 0..40
-  sim::SceneObject walker;
-  walker.type = "pedestrian";
-  walker.shape = sim::Shape::kCylinder;
-  walker.size = {0.5f, 0.5f, 1.75f};
-  walker.position = {22.0f, -5.3f, 0.0f};
-  scene.objects = {facade, walker};
+  // The façade's face on y = -6, x 0..40; the pedestrian 0.45 m in front of it.
+  scene.objects = {test_scene::block("building", {40.0f, 10.0f, 9.0f}, {20.0f, -11.0f, 0.0f}),
+                   test_scene::cylinder("pedestrian", 0.5f, 1.75f, {22.0f, -5.3f, 0.0f})};
   sim::NoiseParams noise;
   noise.range_std_m = 0.02f;  // the scenarios'
   const auto onFacade = [](const Box3D& b) { return b.max.y() < -5.8f; };
