@@ -523,7 +523,10 @@ TEST_F(LightBridge, SegmentLevelsReachTheBoard) {
   EXPECT_TRUE(waitFor([&] { auto l = board().levels(); return l.back() == Bytes(8, 255); }, 2.0))
       << "stale levels must fail safe to 255";
   EXPECT_EQ(board().segmentDuty(0), 255);
-  EXPECT_FALSE(board().lampOn()) << "the binary lamp still follows lamp_cmd";
+  // The binary lamp still follows lamp_cmd (OFF). Waited for, not read once: on a loaded machine
+  // (the sanitized suite on 2 cores) a heartbeat gap past the board's 500 ms watchdog turns the
+  // lamp ON for a moment, as it must; stale levels holding it ON would fail this wait.
+  EXPECT_TRUE(waitFor([&] { return !board().lampOn(); }, 1.5)) << "the binary lamp must follow lamp_cmd (OFF)";
 }
 
 TEST_F(LightBridge, LaunchFileServesTheLightController) {
