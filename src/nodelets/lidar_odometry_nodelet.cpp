@@ -2,13 +2,17 @@
 // odom_frame -> base_frame at the cloud's stamp and nav_msgs/Odometry on `lidar_odom` out. Glue
 // only: decoding checks, tf2, parameters and diagnostics here; the registration is
 // icanc::LidarOdometry. Idle (no subscription) unless the namespace parameter ego_motion/source is
-// "lidar", so icanc.launch can always load it.
+// "lidar", so icanc.launch can always load it. With ~speed_topic (geometry_msgs/TwistStamped: the
+// vehicle's forward speed in twist.linear.x, wheel speed on CAN; with ~speed_yaw_rate its gyro's
+// yaw rate in twist.angular.z), frames whose scene fixes no motion take that motion
+// (LidarOdometry::seedTwist) instead of "as before".
 #include <map>
 #include <memory>
 #include <mutex>
 
 #include <boost/make_shared.hpp>
 #include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -20,6 +24,7 @@
 
 #include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
+#include "icanc/core/motion/measured_twist.hpp"
 #include "icanc/ros/conversions.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
@@ -37,12 +42,17 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     reader.read("base_frame", base_frame_);
     reader.read("odom_frame", odom_frame_);
     reader.read("max_points", max_points_);
+    reader.read("speed_topic", speed_topic_);
+    reader.read("speed_max_age_s", speed_max_age_s_);
+    reader.read("speed_yaw_rate", speed_yaw_rate_);
     const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     std::string why = validate(params);
     if (why.empty() && max_points_ <= 0) why = "max_points must be > 0";
     if (why.empty() && (base_frame_.empty() || odom_frame_.empty()))
       why = "base_frame and odom_frame must not be empty";
     if (why.empty() && base_frame_ == odom_frame_) why = "base_frame must differ from odom_frame";
+    if (why.empty() && !(speed_max_age_s_ > 0.0 && speed_max_age_s_ <= 1.0))
+      why = "speed_max_age_s must be in (0, 1]";
     if (why.empty()) why = rate_problem;
     if (!checkParams(getName(), reader, why)) return;
 
@@ -61,6 +71,12 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     diagnostics_->updater().add("lidar odometry", this, &LidarOdometryNodelet::diagnose);
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("lidar_odom", 5);
     sub_ = nh.subscribe("points", 2, &LidarOdometryNodelet::onCloud, this);
+    if (!speed_topic_.empty()) {
+      speed_sub_ = nh.subscribe(speed_topic_, 50, &LidarOdometryNodelet::onSpeed, this);
+      NODELET_INFO("LidarOdometry: the vehicle's speed%s from %s (twist.linear.x%s) where the "
+                   "scene fixes no motion", speed_yaw_rate_ ? " and yaw rate" : "",
+                   speed_sub_.getTopic().c_str(), speed_yaw_rate_ ? ", angular.z" : "");
+    }
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     NODELET_INFO("LidarOdometry on %s -> tf %s -> %s, %s", sub_.getTopic().c_str(),
                  odom_frame_.c_str(), base_frame_.c_str(), nh.resolveName("lidar_odom").c_str());
@@ -82,6 +98,37 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     }
   }
 
+  void onSpeed(const geometry_msgs::TwistStamped::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    MeasuredTwist twist = measuredTwist(msg->twist.linear.x);
+    if (speed_yaw_rate_) twist.yaw_rate_rad_s = msg->twist.angular.z;
+    const TwistHistory::Added added = speeds_.add(msg->header.stamp.toSec(), twist);
+    if (added == TwistHistory::Added::kInvalid) {
+      ++invalid_speeds_;
+      NODELET_ERROR_THROTTLE(1.0, "vehicle twist on %s dropped: %g m/s, %g rad/s at stamp %.3f is "
+                             "no measurement", speed_sub_.getTopic().c_str(), msg->twist.linear.x,
+                             msg->twist.angular.z, msg->header.stamp.toSec());
+    } else if (added == TwistHistory::Added::kRestarted) {
+      ++speed_restarts_;
+      NODELET_WARN_THROTTLE(1.0, "vehicle speed stamp went backwards on %s (bag loop?): history "
+                            "restarted", speed_sub_.getTopic().c_str());
+    }
+  }
+
+  // The vehicle's measured twist at the cloud's stamp, handed to the odometry for this frame.
+  void seedTwist(const ros::Time& stamp) {
+    if (speed_topic_.empty()) return;
+    MeasuredTwist twist;
+    if (speeds_.at(stamp.toSec(), speed_max_age_s_, twist)) {
+      odometry_->seedTwist(twist);
+      return;
+    }
+    ++speed_missing_;
+    NODELET_WARN_THROTTLE(5.0, "no vehicle speed on %s within %.2f s of the cloud at %.3f: the "
+                          "LiDAR alone for this frame", speed_sub_.getTopic().c_str(),
+                          speed_max_age_s_, stamp.toSec());
+  }
+
   void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
     const ros::WallTime received = ros::WallTime::now();
     std::lock_guard<std::mutex> lock(mutex_);
@@ -101,6 +148,7 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     Eigen::Affine3f mount;
     if (!lookupMount(msg->header, mount)) return;
 
+    seedTwist(msg->header.stamp);
     // The points input_stride skips are not decoded at all.
     const DecodePlan thinned =
         everyNthPoint(plan, odometry_->params().input_stride, odometry_->sourcePhase());
@@ -112,6 +160,12 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     if (stats.result == Result::kReset) {
       NODELET_WARN_THROTTLE(
           1.0, "cloud stamp went backwards (bag loop?): odometry restarted at identity");
+    } else if (stats.result == Result::kDegenerate && stats.speed_seeded) {
+      // Expected on a flat road or between walls; the vehicle's speed carries the pose.
+      NODELET_INFO_THROTTLE(10.0, "registration degenerate (horizontal observability %.3f, at "
+                            "least %.3f wanted): pose from the vehicle's measured motion",
+                            stats.horizontal_observability,
+                            odometry_->params().min_horizontal_observability);
     } else if (stats.result == Result::kDegenerate) {
       NODELET_WARN_THROTTLE(1.0,
                             "registration degenerate (%zu of %zu points matched, horizontal "
@@ -120,8 +174,9 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
                             stats.horizontal_observability,
                             odometry_->params().min_horizontal_observability);
     } else if (stats.result == Result::kExtrapolated) {
-      NODELET_WARN_THROTTLE(1.0, "cloud with %zu usable points (< %d): pose from the motion prior",
-                            stats.registration_points, odometry_->params().min_points);
+      NODELET_WARN_THROTTLE(1.0, "cloud with %zu usable points (< %d): pose from the %s",
+                            stats.registration_points, odometry_->params().min_points,
+                            stats.speed_seeded ? "vehicle's measured motion" : "motion prior");
     }
     publish(msg->header.stamp, pose, stats.result);
     last_ms_ = (ros::WallTime::now() - received).toSec() * 1e3;
@@ -177,6 +232,8 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "invalid clouds dropped");
     else if (tf_failures_ > reported_tf_failures_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "transform to base frame missing");
+    else if (invalid_speeds_ > reported_invalid_speeds_ || speed_missing_ > reported_speed_missing_)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "vehicle speed invalid or missing");
     else if (c.degenerate + c.extrapolated > reported_prior_)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "poses from the motion prior");
     else
@@ -184,6 +241,8 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     reported_invalid_ = invalid;
     reported_tf_failures_ = tf_failures_;
     reported_prior_ = c.degenerate + c.extrapolated;
+    reported_invalid_speeds_ = invalid_speeds_;
+    reported_speed_missing_ = speed_missing_;
     const LidarOdometryStats& s = odometry_->lastStats();
     stat.add("clouds received", received_);
     stat.add("odometry published", published_);
@@ -196,6 +255,11 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     stat.add("resets: time backwards", c.resets);
     stat.add("gaps above max_dt_s", c.gaps);
     stat.add("non-finite points", c.nonfinite_points);
+    stat.add("speed topic", speed_topic_.empty() ? std::string("none") : speed_sub_.getTopic());
+    stat.add("poses from the measured twist (scene degenerate)", c.speed_seeded);
+    stat.add("clouds without a vehicle speed", speed_missing_);
+    stat.add("invalid vehicle speeds", invalid_speeds_);
+    stat.add("vehicle speed restarts: time backwards", speed_restarts_);
     stat.add("last result", toString(s.result));
     stat.add("registration points", s.registration_points);
     stat.add("correspondences", s.correspondences);
@@ -215,17 +279,23 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   ros::Publisher odom_pub_;
-  ros::Subscriber sub_;
+  ros::Subscriber sub_, speed_sub_;
 
   std::string base_frame_ = "base_link";
   std::string odom_frame_ = "odom";
   int max_points_ = 2000000;
   double expected_rate_hz_ = 10.0;
+  std::string speed_topic_;         // "": no vehicle speed
+  double speed_max_age_s_ = 0.2;    // a speed this far from the cloud's stamp is not used [s]
+  bool speed_yaw_rate_ = false;     // twist.angular.z is the vehicle's yaw rate (a gyro)
+  TwistHistory speeds_;
 
   std::mutex mutex_;  // the cloud callback and the diagnostics timer
   std::map<DecodeError, std::uint64_t> invalid_;
   std::uint64_t received_ = 0, published_ = 0, tf_failures_ = 0;
   std::uint64_t reported_invalid_ = 0, reported_tf_failures_ = 0, reported_prior_ = 0;
+  std::uint64_t invalid_speeds_ = 0, speed_missing_ = 0, speed_restarts_ = 0;
+  std::uint64_t reported_invalid_speeds_ = 0, reported_speed_missing_ = 0;
   double last_ms_ = 0.0;
 };
 

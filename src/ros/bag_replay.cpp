@@ -1,11 +1,14 @@
 #include "icanc/ros/bag_replay.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
 #include <stdexcept>
 
+#include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/names.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <rosgraph_msgs/Clock.h>
@@ -101,16 +104,31 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   std::string ego_source;
   ros::param::get(opt.ns + "/ego_motion/source", ego_source);
   std::vector<rosbag::MessageInstance> motion;
-  if (opt.publish_tf && ego_source != "lidar")
-    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({"/tf", opt.odom_topic})))
+  // Its measured speed (icanc_sim_bag's /vehicle/twist), when the graph's LidarOdometry takes one.
+  std::string speed_topic;
+  if (ego_source == "lidar") ros::param::get(opt.ns + "/lidar_odometry/speed_topic", speed_topic);
+  if (!speed_topic.empty()) speed_topic = ros::names::resolve(opt.ns, speed_topic);
+  std::vector<std::string> motion_topics;
+  if (opt.publish_tf && ego_source != "lidar") motion_topics = {"/tf", opt.odom_topic};
+  if (!speed_topic.empty()) motion_topics.push_back(speed_topic);
+  if (!motion_topics.empty())
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(motion_topics)))
       motion.push_back(m);
+  const bool has_tf = std::any_of(motion.begin(), motion.end(),
+                                  [](const rosbag::MessageInstance& m) { return m.getTopic() == "/tf"; });
+  const bool has_speed = std::any_of(motion.begin(), motion.end(), [&](const rosbag::MessageInstance& m) {
+    return m.getTopic() == speed_topic;
+  });
   ros::Publisher tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
   ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>(opt.odom_topic, 100);
+  ros::Publisher speed_pub;
+  if (has_speed) speed_pub = nh.advertise<geometry_msgs::TwistStamped>(speed_topic, 100);
   std::size_t next_motion = 0;
   const auto publishMotionUpTo = [&](const ros::Time& stamp) {
     for (; next_motion < motion.size() && motion[next_motion].getTime() <= stamp; ++next_motion) {
       if (auto tf = motion[next_motion].instantiate<tf2_msgs::TFMessage>()) tf_pub.publish(tf);
       else if (auto odom = motion[next_motion].instantiate<nav_msgs::Odometry>()) odom_pub.publish(odom);
+      else if (auto speed = motion[next_motion].instantiate<geometry_msgs::TwistStamped>()) speed_pub.publish(speed);
     }
   };
 
@@ -121,7 +139,8 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   const bool up = waitFor([&] {
     clock_pub.publish(clock);  // the graph's timers need a clock to come up
     return cloud_pub.getNumSubscribers() > 0 && array_sub.getNumPublishers() > 0 &&
-           state_sub.getNumPublishers() > 0 && (motion.empty() || tf_pub.getNumSubscribers() > 0);
+           state_sub.getNumPublishers() > 0 && (!has_tf || tf_pub.getNumSubscribers() > 0) &&
+           (!has_speed || speed_pub.getNumSubscribers() > 0);
   }, opt.graph_timeout_s);
   if (!up) throw std::runtime_error("the icanc graph in " + opt.ns + " did not come up");
   ros::WallDuration(0.3).sleep();  // let the connections settle

@@ -177,6 +177,14 @@ EgoTwist Scenario::vehicleTwist(double t) const {
   return twist;
 }
 
+MeasuredTwist canTwist(const Scenario& s, double t, std::mt19937_64& rng) {
+  constexpr double kScale = 1.01, kSpeedNoiseMps = 0.05, kGyroBiasRadS = 0.003, kGyroNoiseRadS = 0.01;
+  std::normal_distribution<double> noise(0.0, 1.0);
+  const EgoTwist truth = s.vehicleTwist(t);
+  const double speed = kScale * truth.linear.x() + kSpeedNoiseMps * noise(rng);
+  return measuredTwist(speed, truth.yaw_rate + kGyroBiasRadS + kGyroNoiseRadS * noise(rng));
+}
+
 Eigen::Vector3f Scenario::vehicleVelocity(double t) const {
   return vehiclePose(t).linear() * vehicleTwist(t).linear;
 }

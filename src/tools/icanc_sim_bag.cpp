@@ -1,6 +1,9 @@
 // icanc_sim_bag: renders a scenario file (config/scenarios/*.yaml) into a rosbag with the LiDAR
 // clouds (sensor frame), /tf_static (vehicle -> sensor mount), /tf (odom -> vehicle), /odom
-// (nav_msgs/Odometry: the vehicle's pose in odom, its twist in the vehicle frame) and
+// (nav_msgs/Odometry: the vehicle's pose in odom, its twist in the vehicle frame), /vehicle/twist
+// (geometry_msgs/TwistStamped at 50 Hz, as a vehicle's CAN bus gives it: sim::canTwist, the wheel
+// speed and the yaw rate with their errors; what the LiDAR odometry takes where the scene fixes no
+// motion) and
 // /ground_truth (icanc/GroundTruthArray, same stamp as each cloud, vehicle frame): every scene
 // object's true box, velocity relative to the vehicle, returns inside the box and its danger
 // label from the scripted motion (docs/design.md, "Ground truth for dangerous"). The corridor
@@ -9,6 +12,7 @@
 //
 //   icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time 1000]
 //                 [--profile PROFILE.yaml] [--truth-topic /ground_truth] [--odom-topic /odom]
+//                 [--speed-topic /vehicle/twist]
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -20,6 +24,7 @@
 
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
+#include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -61,11 +66,21 @@ nav_msgs::Odometry toOdometry(const icanc::sim::Scenario& s, double t, const ros
   return odom;
 }
 
+geometry_msgs::TwistStamped toTwistStamped(const icanc::MeasuredTwist& m, const std::string& frame,
+                                           const ros::Time& stamp) {
+  geometry_msgs::TwistStamped twist;
+  twist.header.stamp = stamp;
+  twist.header.frame_id = frame;
+  twist.twist.linear.x = m.forward_mps;
+  twist.twist.angular.z = m.yaw_rate_rad_s;
+  return twist;
+}
+
 int usage(bool asked = false) {
   return icanc::tools::printUsage(
       "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
       "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n"
-      "                     [--odom-topic /odom]\n",
+      "                     [--odom-topic /odom] [--speed-topic /vehicle/twist]\n",
       asked);
 }
 
@@ -92,7 +107,7 @@ int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string scenario_path = argv[1], bag_path = argv[2];
   std::string topic = "/points", truth_topic = "/ground_truth", odom_topic = "/odom",
-              profile_override;
+              speed_topic = "/vehicle/twist", profile_override;
   double start_time = 1000.0;
   for (int i = 3; i < argc; i += 2) {
     if (i + 1 >= argc) return usage();
@@ -102,6 +117,7 @@ int main(int argc, char** argv) {
     else if (flag == "--profile") profile_override = argv[i + 1];
     else if (flag == "--truth-topic") truth_topic = argv[i + 1];
     else if (flag == "--odom-topic") odom_topic = argv[i + 1];
+    else if (flag == "--speed-topic") speed_topic = argv[i + 1];
     else return usage();
   }
   ros::Time::init();
@@ -120,6 +136,7 @@ int main(int argc, char** argv) {
     }
     const icanc::sim::ScenarioTruth truth(s, corridor);
     std::mt19937_64 rng(s.seed);
+    std::mt19937_64 wheel_rng(s.seed + 1);  // its own: the clouds stay those of the seed
     const ros::Time t0(start_time);
 
     rosbag::Bag bag(bag_path, rosbag::bagmode::Write);
@@ -158,6 +175,12 @@ int main(int argc, char** argv) {
       odom.transforms.push_back(toTransform(s.vehiclePose(t), "odom", s.vehicle_frame, stamp));
       bag.write("/tf", stamp, odom);
       bag.write(odom_topic, stamp, toOdometry(s, t, stamp));
+      for (int j = 0; j < static_cast<int>(icanc::sim::kCanTwistHz * frame_dt + 0.5); ++j) {
+        const double dt = j / icanc::sim::kCanTwistHz;
+        bag.write(speed_topic, stamp + ros::Duration(dt),
+                  toTwistStamped(icanc::sim::canTwist(s, t + dt, wheel_rng), s.vehicle_frame,
+                                 stamp + ros::Duration(dt)));
+      }
       bag.write(topic, stamp, cloud);
       bag.write(truth_topic, stamp,
                 icanc::toGroundTruthArray(f.boxes, f.labels, f.num_points, corridor, stamp,

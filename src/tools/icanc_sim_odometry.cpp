@@ -5,19 +5,25 @@
 // by the sensor's mount and registered with the scenario profile's lidar_odometry section; the
 // estimate is compared with the scripted vehicle pose at every frame.
 //
-//   icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--trace]
+//   icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--twist] [--trace]
 // Prints per scenario the worst position and yaw error, the worst forward-speed error after the
 // first second, the frames registered, and what the registration had to work with: the returns
 // in range above the road (structure) against those on it, median per frame, and the horizontal
 // observability of the frames registered or found degenerate (median, min).
+// --twist: each frame also gets the vehicle's measured twist, as the nodelet gets it from
+// icanc_sim_bag's /vehicle/twist (sim::canTwist, the same draws; lidar_odometry/speed_yaw_rate of
+// the profile says whether its yaw rate is taken).
 // --trace: one line per frame.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <yaml-cpp/yaml.h>
 
 #include "icanc/core/common/percentile.hpp"
 #include "icanc/core/common/yaml_params.hpp"
@@ -29,17 +35,21 @@
 
 namespace {
 
-const char* const kUsage = "usage: icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--trace]\n";
+const char* const kUsage =
+    "usage: icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--twist] [--trace]\n";
 
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose(0, 0)); }
 
-void follow(const std::string& path, bool trace) {
+void follow(const std::string& path, bool twist, bool trace) {
   const icanc::sim::Scenario s = icanc::sim::loadScenario(path);
   const icanc::Profile profile = icanc::loadProfile(icanc::sim::profilePath(path, s.profile));
   const icanc::LidarOdometryParams& params = profile.lidar_odometry;
   icanc::LidarOdometry odometry(params);
   const icanc::sim::LidarModel model = icanc::sim::LidarModel::byName(s.lidar);
-  std::mt19937_64 rng(s.seed);
+  std::mt19937_64 rng(s.seed), can_rng(s.seed + 1);  // as icanc_sim_bag draws them
+  // The nodelet's own key (not in LidarOdometryParams): does the speed topic carry a yaw rate.
+  const YAML::Node yaw_node = YAML::LoadFile(icanc::sim::profilePath(path, s.profile))["lidar_odometry"]["speed_yaw_rate"];
+  const bool yaw_rate = yaw_node && yaw_node.as<bool>();
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
   const Eigen::Affine3f mount(s.sensor_mount.matrix());  // sensor frame -> base_link
   double worst_position = 0.0, worst_yaw = 0.0, worst_speed = 0.0;
@@ -66,6 +76,11 @@ void follow(const std::string& path, bool trace) {
       throw std::runtime_error("rendered scan not decodable");
     const icanc::DecodePlan thinned =
         icanc::everyNthPoint(plan, static_cast<std::size_t>(params.input_stride), odometry.sourcePhase());
+    for (int j = 0; j < static_cast<int>(icanc::sim::kCanTwistHz / s.rate_hz + 0.5); ++j) {
+      icanc::MeasuredTwist m = icanc::sim::canTwist(s, t + j / icanc::sim::kCanTwistHz, can_rng);
+      if (!yaw_rate) m.yaw_rate_rad_s = std::numeric_limits<double>::quiet_NaN();
+      if (j == 0 && twist) odometry.seedTwist(m);  // the sample at the cloud's stamp
+    }
     const Eigen::Isometry3d estimate = odometry.registerFrom(
         t, [&](auto&& sink) { icanc::forEachXYZ(raw, thinned, mount, sink); },
         icanc::LidarOdometry::Thinning::kBySource);
@@ -102,16 +117,17 @@ void follow(const std::string& path, bool trace) {
 int main(int argc, char** argv) {
   if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(kUsage, true);
   std::vector<std::string> scenarios;
-  bool trace = false;
+  bool trace = false, twist = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--trace") trace = true;
+    else if (a == "--twist") twist = true;
     else if (a.rfind("--", 0) == 0) return icanc::tools::printUsage(kUsage, false);
     else scenarios.push_back(a);
   }
   if (scenarios.empty()) return icanc::tools::printUsage(kUsage, false);
   try {
-    for (const std::string& s : scenarios) follow(s, trace);
+    for (const std::string& s : scenarios) follow(s, twist, trace);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icanc_sim_odometry: %s\n", e.what());
     return 1;

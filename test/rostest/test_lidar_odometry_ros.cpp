@@ -2,12 +2,17 @@
 // test_lidar, 1.8 m above base_link by a static tf this test broadcasts) of a vehicle pulling away
 // and turning in a street are published at 10 Hz; the nodelet's nav_msgs/Odometry and tf odom ->
 // base_link must be stamped with the clouds' stamps and follow the true path; a malformed cloud is
-// skipped without stopping it. With ego_motion/source not "lidar" it stays idle.
+// skipped without stopping it. In a corridor, the vehicle's speed on speed_topic carries the pose.
+// With ego_motion/source not "lidar" it stays idle.
+#include <algorithm>
+#include <cstdio>
+#include <limits>
 #include <mutex>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <pcl_conversions/pcl_conversions.h>
 #include <ros/ros.h>
@@ -110,6 +115,67 @@ TEST(LidarOdometryNodelet, PublishesTfAndOdometryAlongTheTruePath) {
   EXPECT_NEAR(tf.transform.translation.x, last->pose.pose.position.x, 1e-6);
   EXPECT_NEAR(tf.transform.translation.y, last->pose.pose.position.y, 1e-6);
   EXPECT_NEAR(tf.transform.rotation.z, last->pose.pose.orientation.z, 1e-6);
+}
+
+// The corridor (nothing faces along it) with the vehicle's speed on the profile's speed_topic
+// (/vehicle/twist, geometry_msgs/TwistStamped at 50 Hz as a CAN bridge sends it, 1 % over): the
+// pose follows the vehicle, where without it the odometry says "not moving" (the core gtest
+// MeasuredSpeedCarriesItAlongACorridor: 24 m off). Its stamps start 100 s before the street's:
+// time going backwards restarts the odometry at identity. One speed is not a number and one is
+// 500 m/s: dropped, the rest goes on.
+TEST(LidarOdometryNodelet, TheVehicleSpeedCarriesItWhereTheSceneCannot) {
+  ros::NodeHandle nh;
+  std::string speed_topic;
+  ASSERT_TRUE(nh.getParam("/icanc/lidar_odometry/speed_topic", speed_topic));
+  ASSERT_EQ(speed_topic, "/vehicle/twist");
+  ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>("/test/points", 5);
+  ros::Publisher speed_pub = nh.advertise<geometry_msgs::TwistStamped>(speed_topic, 50);
+  OdomRecorder rec;
+  ros::Subscriber sub = nh.subscribe("/icanc/lidar_odom", 100, &OdomRecorder::onOdom, &rec);
+  ASSERT_TRUE(waitForSubscriber(pub, 30.0));
+  ASSERT_TRUE(waitForSubscriber(speed_pub, 30.0)) << "LidarOdometry did not subscribe to the speed";
+  ros::WallDuration(0.5).sleep();
+
+  const sim::Scene scene = corridor();
+  std::mt19937_64 rng(23);
+  const ros::Time t0 = ros::Time::now() - ros::Duration(100.0);
+  const int frames = 40;
+  ros::Rate rate(50.0);
+  for (int k = 0; k <= 5 * frames && ros::ok(); ++k) {  // 50 Hz speed, a cloud every 5th
+    const double t = 0.02 * k;
+    geometry_msgs::TwistStamped speed;
+    speed.header.stamp = t0 + ros::Duration(t);
+    speed.header.frame_id = "base_link";
+    speed.twist.linear.x = 1.01 * std::min(8.0, 4.0 * t);
+    if (k == 52) speed.twist.linear.x = std::numeric_limits<double>::quiet_NaN();
+    if (k == 73) speed.twist.linear.x = 500.0;
+    speed_pub.publish(speed);
+    if (k % 5 == 0) {
+      sensor_msgs::PointCloud2 msg;
+      pcl::toROSMsg(sensorScan(scene, t, truePose(t, 8.0, false), rng), msg);
+      msg.header.frame_id = "test_lidar";
+      msg.header.stamp = t0 + ros::Duration(t);
+      pub.publish(msg);
+    }
+    rate.sleep();
+  }
+  ros::WallDuration(1.0).sleep();
+
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  std::size_t seen = 0;
+  double worst = 0.0;
+  for (const auto& m : rec.msgs) {
+    const double t = (m->header.stamp - t0).toSec();
+    if (t < -1e-6 || t > 0.1 * frames + 1e-6) continue;  // the street test's
+    ++seen;
+    Eigen::Isometry3d pose;
+    tf2::fromMsg(m->pose.pose, pose);
+    worst = std::max(worst, (pose.translation() - truePose(t, 8.0, false).translation()).norm());
+  }
+  ASSERT_GE(seen, static_cast<std::size_t>(frames * 9 / 10)) << "odometry lost";
+  std::printf("[ MEASURE ] corridor with the vehicle speed: worst error %.2f m over 24 m\n", worst);
+  EXPECT_LT(worst, 0.6);
+  EXPECT_NEAR(rec.msgs.back()->twist.twist.linear.x, 8.08, 0.4);
 }
 
 TEST(LidarOdometryNodelet, IdleUnlessTheSourceIsLidar) {

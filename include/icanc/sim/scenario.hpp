@@ -3,11 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "icanc/core/motion/measured_twist.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/path.hpp"
 
@@ -51,6 +53,12 @@ struct Scenario {
   Eigen::Isometry3f sensorPose(double t) const { return vehiclePose(t) * sensor_mount; }
   std::size_t frames() const;
 };
+
+// The vehicle's motion at t as its CAN bus reports it (icanc_sim_bag's /vehicle/twist, kCanTwistHz):
+// the wheel speed 1 % over (a tyre's rolling radius is never the nominal one) with 0.05 m/s noise,
+// the stability control's yaw rate with a 0.003 rad/s bias and 0.01 rad/s noise. Two draws of rng.
+constexpr double kCanTwistHz = 50.0;
+MeasuredTwist canTwist(const Scenario& s, double t, std::mt19937_64& rng);
 
 // Loads a scenario; throws std::runtime_error naming the file and the offending key.
 Scenario loadScenario(const std::string& path);

@@ -136,6 +136,7 @@ void LidarOdometry::reset() {
   pose_.setIdentity();
   last_delta_.setIdentity();
   last_delta_dt_ = 0.0;
+  has_last_seed_ = false;
   linear_velocity_.setZero();
   angular_velocity_.setZero();
   deviation_sse_ = 0.0;
@@ -202,13 +203,37 @@ void LidarOdometry::selectRegistrationPoints() {
   appendThinned(ground_, n_ground, registration_);
 }
 
-Eigen::Isometry3d LidarOdometry::predict(double dt) const {
-  if (last_delta_dt_ <= 0.0 || dt <= 0.0) return pose_;
-  const double s = dt / last_delta_dt_;
-  const Eigen::AngleAxisd rotation(last_delta_.rotation());
+void LidarOdometry::countSeed(bool seeded) {
+  stats_.speed_seeded = seeded;
+  counters_.speed_seeded += seeded ? 1 : 0;
+}
+
+void LidarOdometry::seedTwist(const MeasuredTwist& twist) {
+  has_seed_ = std::isfinite(twist.forward_mps);
+  seed_ = twist;
+}
+
+Eigen::Isometry3d LidarOdometry::predict(double dt, bool with_seed) const {
+  if (dt <= 0.0) return pose_;
   Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-  delta.linear() = Eigen::AngleAxisd(rotation.angle() * s, rotation.axis()).toRotationMatrix();
-  delta.translation() = last_delta_.translation() * s;
+  if (last_delta_dt_ > 0.0) {  // constant velocity: the last motion scaled to this dt
+    const double s = dt / last_delta_dt_;
+    const Eigen::AngleAxisd rotation(last_delta_.rotation());
+    delta.linear() = Eigen::AngleAxisd(rotation.angle() * s, rotation.axis()).toRotationMatrix();
+    delta.translation() = last_delta_.translation() * s;
+  }
+  if (with_seed && has_seed_) {
+    const auto mean = [&](double now, double before) {
+      return has_last_seed_ && std::isfinite(before) ? 0.5 * (now + before) : now;
+    };
+    if (std::isfinite(seed_.yaw_rate_rad_s))  // the measured turn, about the vehicle's z
+      delta.linear() = Eigen::AngleAxisd(mean(seed_.yaw_rate_rad_s, last_seed_.yaw_rate_rad_s) * dt,
+                                         Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // The measured speed along the chord of the turn.
+    const Eigen::AngleAxisd turn(delta.rotation());
+    delta.translation() = Eigen::AngleAxisd(0.5 * turn.angle(), turn.axis()) *
+                          Eigen::Vector3d(mean(seed_.forward_mps, last_seed_.forward_mps) * dt, 0.0, 0.0);
+  }
   return pose_ * delta;
 }
 
@@ -503,6 +528,16 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   stats_.input_points = input_points_;
   stats_.frame_points = frame_.size();
   stats_.result = LidarOdometryStats::Result::kFirstFrame;
+  // A seed holds for this frame only, whatever happens to it; the next frame's prior averages it
+  // with its own.
+  struct SeedUse {
+    LidarOdometry& o;
+    ~SeedUse() {
+      o.has_last_seed_ = o.has_seed_;
+      o.last_seed_ = o.seed_;
+      o.has_seed_ = false;
+    }
+  } seed_use{*this};
   if (initialized_ && stamp_s < last_stamp_s_) {  // bag loop, restarted driver: start over
     reset();
     ++counters_.resets;
@@ -512,6 +547,7 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   if (dt > params_.max_dt_s) {  // the last motion says nothing about this one
     ++counters_.gaps;
     last_delta_dt_ = 0.0;
+    has_last_seed_ = false;
   }
   selectRegistrationPoints();
   stats_.registration_points = registration_.size();
@@ -535,12 +571,19 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
     return pose_;
   }
 
-  const Eigen::Isometry3d prediction = predict(dt);
+  // ICP starts from the constant-velocity prior, and its adaptive threshold measures how far
+  // registrations stray from it. Where the scene fixes no motion, the pose is the prior, moved
+  // by the measured speed when there is one (a seeded ICP start tightens the threshold: the turn
+  // of RecoversAStraightThenTurningPath then falls outside it).
+  const Eigen::Isometry3d prediction = predict(dt, false);
+  const bool seeded = has_seed_ && dt > 0.0;
+  const Eigen::Isometry3d fallback = seeded ? predict(dt, true) : prediction;
   Eigen::Isometry3d estimate = prediction;
   if (!enough || map_points_ == 0) {
     ++counters_.extrapolated;
     stats_.result = LidarOdometryStats::Result::kExtrapolated;
-    pose_ = prediction;  // velocity and prior unchanged: the next frame continues the motion
+    countSeed(seeded);
+    pose_ = fallback;  // velocity and prior unchanged: the next frame continues the motion
     last_stamp_s_ = stamp_s;
     stats_.map_points = map_points_;
     return pose_;
@@ -559,7 +602,8 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   } else {
     ++counters_.degenerate;
     stats_.result = LidarOdometryStats::Result::kDegenerate;
-    estimate = prediction;
+    countSeed(seeded);
+    estimate = fallback;
   }
   const double t2 = odometryNowMs();
   stats_.register_ms = t2 - t1;

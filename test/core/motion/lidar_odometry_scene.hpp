@@ -39,6 +39,15 @@ inline sim::SceneObject pole(float x, float y) {
 
 // A street along +x (buildings with gaps, parked cars, poles) and, where the path below turns
 // left by 1 rad, a street along its new heading.
+// Two long smooth walls along the road: nothing faces along it, so the scene cannot say how far
+// the vehicle went.
+inline sim::Scene corridor() {
+  sim::Scene scene;
+  scene.objects.push_back(box(0.0f, 4.5f, 600.0f, 1.0f, 4.0f));
+  scene.objects.push_back(box(0.0f, -4.5f, 600.0f, 1.0f, 4.0f));
+  return scene;
+}
+
 inline sim::Scene street() {
   sim::Scene scene;
   for (int i = 0; i < 8; ++i) {

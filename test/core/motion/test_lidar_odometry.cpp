@@ -159,9 +159,7 @@ TEST(LidarOdometry, StraightCorridorDoesNotDiverge) {
   // must stay finite, on the corridor's axis and level, and never run ahead of the vehicle or
   // backwards. (It does not keep the speed: in the simulator's exact scan pattern the walls' scan
   // lines hold it back, a known limit, docs/lidar_odometry.md.)
-  sim::Scene corridor;
-  corridor.objects.push_back(box(0.0f, 4.5f, 600.0f, 1.0f, 4.0f));
-  corridor.objects.push_back(box(0.0f, -4.5f, 600.0f, 1.0f, 4.0f));
+  const sim::Scene corridor = lio_scene::corridor();
   LidarOdometry odometry(testParams());
   std::mt19937_64 rng(9);
   for (int f = 0; f <= 40; ++f) {
@@ -183,6 +181,94 @@ TEST(LidarOdometry, StraightCorridorDoesNotDiverge) {
   EXPECT_EQ(odometry.counters().degenerate, 40u);
 }
 
+// The vehicle's speed at frame time t of truePose (pulling away at 4 m/s2 up to `speed`).
+double trueSpeed(double t, double speed = 8.0) { return std::min(speed, 4.0 * t); }
+
+
+TEST(LidarOdometry, MeasuredSpeedCarriesItAlongACorridor) {
+  // The corridor of StraightCorridorDoesNotDiverge, with the vehicle's wheel speed seeded as a
+  // CAN bus gives it: 1 % over (tyre radius) and 0.05 m/s noise. Every frame is still degenerate
+  // (the scene cannot say how far it went); the pose now follows the measured speed.
+  const sim::Scene corridor = lio_scene::corridor();
+  LidarOdometry seeded(testParams()), alone(testParams());
+  std::mt19937_64 rng(9), wheel(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  double worst_seeded = 0.0, worst_alone = 0.0;
+  for (int f = 0; f <= 40; ++f) {
+    const double t = 0.1 * f;
+    const Eigen::Isometry3d truth = truePose(t, 8.0, false);
+    const std::vector<Eigen::Vector3f> scan = scanAt(corridor, t, truth, rng);
+    seeded.seedTwist(measuredTwist(1.01 * trueSpeed(t) + noise(wheel)));
+    const Eigen::Isometry3d with = seeded.registerFrame(t, scan);
+    const Eigen::Isometry3d without = alone.registerFrame(t, scan);
+    ASSERT_TRUE(with.matrix().allFinite());
+    EXPECT_NEAR(with.translation().y(), 0.0, 0.15) << "frame " << f;
+    EXPECT_NEAR(yawOf(with), 0.0, 0.01) << "frame " << f;
+    worst_seeded = std::max(worst_seeded, (with.translation() - truth.translation()).norm());
+    worst_alone = std::max(worst_alone, (without.translation() - truth.translation()).norm());
+    if (f > 0) {
+      EXPECT_TRUE(seeded.lastStats().speed_seeded) << "frame " << f;
+    }
+  }
+  std::printf("[ MEASURE ] corridor, 24 m at up to 8 m/s: worst error %.2f m with the wheel speed "
+              "(1 %% over), %.2f m without\n", worst_seeded, worst_alone);
+  EXPECT_LT(worst_seeded, 0.5);   // 1 % of 24 m and the noise
+  EXPECT_GT(worst_alone, 5.0);    // without it, "not moving" for a good part of the way
+  EXPECT_NEAR(seeded.linearVelocity().x(), 8.08, 0.3);
+  EXPECT_EQ(seeded.counters().degenerate, 40u);  // the scene still fixes nothing along it
+  EXPECT_EQ(seeded.counters().speed_seeded, 40u);
+  // A seed holds for one frame: the next frame without one is the constant-velocity prior.
+  seeded.registerFrame(4.1, scanAt(corridor, 4.1, truePose(4.1, 8.0, false), rng));
+  EXPECT_FALSE(seeded.lastStats().speed_seeded);
+  EXPECT_EQ(seeded.counters().speed_seeded, 40u);
+}
+
+TEST(LidarOdometry, MeasuredYawRateTurnsItOnAnOpenRoad) {
+  // Nothing but the road: the drive of RecoversAStraightThenTurningPath (1 rad turned at 3-5 s)
+  // with the wheel speed, and with the gyro's yaw rate too (0.003 rad/s bias). With the speed
+  // alone the degenerate frames' pose goes straight on through the turn.
+  const sim::Scene road;
+  LidarOdometry twist(testParams()), speed_only(testParams());
+  std::mt19937_64 rng(5);
+  double worst_twist = 0.0, worst_speed = 0.0;
+  for (int f = 0; f <= 65; ++f) {
+    const double t = 0.1 * f;
+    const Eigen::Isometry3d truth = truePose(t);
+    const double yaw_rate = t >= 3.0 && t < 5.0 ? 0.5 : 0.0;  // truePose's, at the frame
+    const std::vector<Eigen::Vector3f> scan = scanAt(road, t, truth, rng);
+    twist.seedTwist(measuredTwist(trueSpeed(t), yaw_rate + 0.003));
+    speed_only.seedTwist(measuredTwist(trueSpeed(t)));
+    const Eigen::Isometry3d a = twist.registerFrame(t, scan), b = speed_only.registerFrame(t, scan);
+    worst_twist = std::max(worst_twist, (a.translation() - truth.translation()).norm());
+    worst_speed = std::max(worst_speed, (b.translation() - truth.translation()).norm());
+  }
+  std::printf("[ MEASURE ] open road, 1 rad turn: worst error %.2f m with speed and yaw rate, %.2f m "
+              "with the speed alone\n", worst_twist, worst_speed);
+  EXPECT_EQ(twist.counters().registered, 0u);
+  EXPECT_NEAR(yawOf(twist.pose()), 1.0 + 0.003 * 6.5, 0.06);
+  EXPECT_LT(worst_twist, 1.0);
+  EXPECT_NEAR(yawOf(speed_only.pose()), 0.0, 0.06);
+  EXPECT_GT(worst_speed, 5.0);
+}
+
+TEST(LidarOdometry, MeasuredSpeedLeavesRegisteredFramesAlone) {
+  // Where the scene fixes the motion (the street and its turn, registered in every frame), the
+  // poses are exactly those without a seed.
+  const sim::Scene scene = street();
+  LidarOdometry seeded(testParams()), alone(testParams());
+  std::mt19937_64 rng(7);
+  for (int f = 0; f <= 65; ++f) {
+    const double t = 0.1 * f;
+    const std::vector<Eigen::Vector3f> scan = scanAt(scene, t, truePose(t), rng);
+    seeded.seedTwist(measuredTwist(1.01 * trueSpeed(t), 0.0));
+    const Eigen::Isometry3d with = seeded.registerFrame(t, scan);
+    const Eigen::Isometry3d without = alone.registerFrame(t, scan);
+    ASSERT_TRUE(with.isApprox(without, 1e-12)) << "frame " << f;
+  }
+  EXPECT_EQ(seeded.counters().registered, 65u);
+  EXPECT_EQ(seeded.counters().speed_seeded, 0u);
+}
+
 TEST(LidarOdometry, ObservabilityTellsAStreetFromACorridor) {
   // The street (buildings with gaps, parked cars, poles across it) constrains both horizontal
   // directions; its observability stays above the default threshold in every frame.
@@ -198,9 +284,7 @@ TEST(LidarOdometry, ObservabilityTellsAStreetFromACorridor) {
   EXPECT_GT(lowest, LidarOdometryParams().min_horizontal_observability);
   EXPECT_EQ(odometry.counters().degenerate, 0u);
   // Switched off, the corridor registers (and slides) as before.
-  sim::Scene corridor;
-  corridor.objects.push_back(box(0.0f, 4.5f, 600.0f, 1.0f, 4.0f));
-  corridor.objects.push_back(box(0.0f, -4.5f, 600.0f, 1.0f, 4.0f));
+  const sim::Scene corridor = lio_scene::corridor();
   LidarOdometryParams unchecked = testParams();
   unchecked.min_horizontal_observability = 0.0;
   LidarOdometry sliding(unchecked);

@@ -26,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include "icanc/core/common/always_inline.hpp"
+#include "icanc/core/motion/measured_twist.hpp"
 
 namespace icanc {
 
@@ -116,6 +117,7 @@ struct LidarOdometryStats {
   // direction leave it near 0 (ICP slides); a street with structure across it does not.
   double horizontal_observability = 0.0;
   double threshold_m = 0.0;  // adaptive sigma used this frame
+  bool speed_seeded = false;  // a pose from the vehicle's measured twist (seedTwist)
   double downsample_ms = 0.0, register_ms = 0.0, map_ms = 0.0;
   double totalMs() const { return downsample_ms + register_ms + map_ms; }
 };
@@ -125,6 +127,7 @@ const char* toString(LidarOdometryStats::Result result);
 struct LidarOdometryCounters {
   std::uint64_t frames = 0, registered = 0, degenerate = 0, extrapolated = 0, resets = 0;
   std::uint64_t gaps = 0;  // dt above max_dt_s: prior dropped
+  std::uint64_t speed_seeded = 0;  // poses from the vehicle's measured twist (seedTwist)
   std::uint64_t nonfinite_points = 0;
 };
 
@@ -171,6 +174,16 @@ class LidarOdometry {
   template <class Source>
   Eigen::Isometry3d registerFrom(double stamp_s, Source&& source,
                                  Thinning thinning = Thinning::kByOdometry);
+
+  // The vehicle's motion as the vehicle measures it (wheel speed, CAN; a yaw-rate gyro), for the
+  // next frame only. A flat road or a road between walls leaves ICP nothing to fix the motion
+  // with (horizontal_observability): the frame is degenerate and its pose is the motion prior,
+  // which says "as before": "not moving" for a vehicle already at speed in the first frame,
+  // "straight on" into a bend. With a seed, that pose turns at the measured yaw rate (when
+  // measured; else the prior's turn) and moves at the measured speed along the chord of the turn
+  // (a car does not slide sideways), each the mean of this seed and the previous frame's when it
+  // had one. Registered frames are as without it. A non-finite speed: no seed.
+  void seedTwist(const MeasuredTwist& twist);
 
   const Eigen::Isometry3d& pose() const { return pose_; }
   Eigen::Vector3d linearVelocity() const { return linear_velocity_; }    // base frame [m/s]
@@ -230,7 +243,9 @@ class LidarOdometry {
            ((static_cast<std::uint64_t>(j) & m) << 21) | (static_cast<std::uint64_t>(k) & m);
   }
 
-  Eigen::Isometry3d predict(double dt) const;
+  // The constant-velocity prior; with_seed: moved by the measured twist (seedTwist) instead.
+  Eigen::Isometry3d predict(double dt, bool with_seed) const;
+  void countSeed(bool seeded);
   void selectRegistrationPoints();
   // The 2 x 2 x 2 map voxels nearest to s, searched for its match: on each axis its voxel and the
   // neighbour on the side of the voxel's half it lies in. blockCorner: the block's lowest corner
@@ -285,6 +300,10 @@ class LidarOdometry {
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_delta_ = Eigen::Isometry3d::Identity();  // previous frame's motion ...
   double last_delta_dt_ = 0.0;                                    // ... over this dt (0: none)
+  bool has_seed_ = false;       // seedTwist for the next frame
+  MeasuredTwist seed_;
+  bool has_last_seed_ = false;  // the previous frame's: the seeded pose moves at the mean of the
+  MeasuredTwist last_seed_;     // two (the distance of a vehicle speeding up or braking)
   Eigen::Vector3d linear_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_ = Eigen::Vector3d::Zero();
   double deviation_sse_ = 0.0;
