@@ -206,6 +206,7 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     // measured on KITTI (docs/lidar_odometry.md); from the motion prior: a metre and 0.1 rad,
     // so a fusing filter trusts it little.
     const bool measured = result == LidarOdometryStats::Result::kRegistered ||
+                          result == LidarOdometryStats::Result::kHeld ||
                           result == LidarOdometryStats::Result::kFirstFrame ||
                           result == LidarOdometryStats::Result::kReset;
     const double pos_var = measured ? 0.05 * 0.05 : 1.0, rot_var = measured ? 0.01 * 0.01 : 0.01;
@@ -251,6 +252,7 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     stat.add("frames", c.frames);
     stat.add("registered", c.registered);
     stat.add("degenerate (motion prior)", c.degenerate);
+    stat.add("of those, registered along-track held (speed only)", c.held);
     stat.add("too few points (motion prior)", c.extrapolated);
     stat.add("resets: time backwards", c.resets);
     stat.add("gaps above max_dt_s", c.gaps);

@@ -5,14 +5,15 @@
 // by the sensor's mount and registered with the scenario profile's lidar_odometry section; the
 // estimate is compared with the scripted vehicle pose at every frame.
 //
-//   icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--twist] [--trace]
+//   icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--twist | --speed] [--trace]
 // Prints per scenario the worst position and yaw error, the worst forward-speed error after the
 // first second, the frames registered, and what the registration had to work with: the returns
 // in range above the road (structure) against those on it, median per frame, and the horizontal
 // observability of the frames registered or found degenerate (median, min).
 // --twist: each frame also gets the vehicle's measured twist, as the nodelet gets it from
 // icanc_sim_bag's /vehicle/twist (sim::canTwist, the same draws; lidar_odometry/speed_yaw_rate of
-// the profile says whether its yaw rate is taken).
+// the profile says whether its yaw rate is taken). --speed: the same without the yaw rate (a
+// speed-only source).
 // --trace: one line per frame.
 #include <algorithm>
 #include <cmath>
@@ -36,11 +37,11 @@
 namespace {
 
 const char* const kUsage =
-    "usage: icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--twist] [--trace]\n";
+    "usage: icanc_sim_odometry SCENARIO.yaml [SCENARIO.yaml ...] [--twist | --speed] [--trace]\n";
 
 double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose(0, 0)); }
 
-void follow(const std::string& path, bool twist, bool trace) {
+void follow(const std::string& path, bool twist, bool speed_only, bool trace) {
   const icanc::sim::Scenario s = icanc::sim::loadScenario(path);
   const icanc::Profile profile = icanc::loadProfile(icanc::sim::profilePath(path, s.profile));
   const icanc::LidarOdometryParams& params = profile.lidar_odometry;
@@ -49,11 +50,11 @@ void follow(const std::string& path, bool twist, bool trace) {
   std::mt19937_64 rng(s.seed), can_rng(s.seed + 1);  // as icanc_sim_bag draws them
   // The nodelet's own key (not in LidarOdometryParams): does the speed topic carry a yaw rate.
   const YAML::Node yaw_node = YAML::LoadFile(icanc::sim::profilePath(path, s.profile))["lidar_odometry"]["speed_yaw_rate"];
-  const bool yaw_rate = yaw_node && yaw_node.as<bool>();
+  const bool yaw_rate = !speed_only && yaw_node && yaw_node.as<bool>();
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
   const Eigen::Affine3f mount(s.sensor_mount.matrix());  // sensor frame -> base_link
   double worst_position = 0.0, worst_yaw = 0.0, worst_speed = 0.0;
-  std::size_t registered = 0;
+  std::size_t registered = 0, held = 0;
   std::vector<double> structure, road, observability;
   for (std::size_t f = 0; f < s.frames(); ++f) {
     const double t = double(f) / s.rate_hz;
@@ -92,9 +93,11 @@ void follow(const std::string& path, bool twist, bool trace) {
     if (t >= 1.0)
       worst_speed = std::max(worst_speed, std::fabs(odometry.linearVelocity().x() - s.vehicleTwist(t).linear.x()));
     const auto& stats = odometry.lastStats();
-    registered += stats.result == icanc::LidarOdometryStats::Result::kRegistered;
-    if (stats.result == icanc::LidarOdometryStats::Result::kRegistered ||
-        stats.result == icanc::LidarOdometryStats::Result::kDegenerate)  // registration attempted
+    using Result = icanc::LidarOdometryStats::Result;
+    registered += stats.result == Result::kRegistered;
+    held += stats.result == Result::kHeld;
+    if (stats.result == Result::kRegistered || stats.result == Result::kDegenerate ||
+        stats.result == Result::kHeld)  // registration attempted
       observability.push_back(stats.horizontal_observability);
     if (trace)
       std::printf("  t %5.1f  estimate (%7.2f %6.2f %6.3f)  truth (%7.2f %6.2f %6.3f)  speed %5.2f / %5.2f  "
@@ -104,10 +107,10 @@ void follow(const std::string& path, bool twist, bool trace) {
                   odometry.linearVelocity().x(), s.vehicleTwist(t).linear.x(), above, below,
                   stats.horizontal_observability, icanc::toString(stats.result));
   }
-  std::printf("%s: %zu frames, %zu registered; worst position error %.2f m, yaw %.3f rad, forward speed "
+  std::printf("%s: %zu frames, %zu registered, %zu along-track held; worst position error %.2f m, yaw %.3f rad, forward speed "
               "%.2f m/s (after 1 s); returns in range above / on the road, median per frame: %.0f / %.0f; "
               "horizontal observability median %.3f, min %.3f\n",
-              s.name.c_str(), s.frames(), registered, worst_position, worst_yaw, worst_speed,
+              s.name.c_str(), s.frames(), registered, held, worst_position, worst_yaw, worst_speed,
               icanc::percentile(structure, 0.5), icanc::percentile(road, 0.5),
               icanc::percentile(observability, 0.5), icanc::percentile(observability, 0.0));
 }
@@ -117,17 +120,18 @@ void follow(const std::string& path, bool twist, bool trace) {
 int main(int argc, char** argv) {
   if (icanc::tools::wantsHelp(argc, argv)) return icanc::tools::printUsage(kUsage, true);
   std::vector<std::string> scenarios;
-  bool trace = false, twist = false;
+  bool trace = false, twist = false, speed_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--trace") trace = true;
     else if (a == "--twist") twist = true;
+    else if (a == "--speed") twist = speed_only = true;
     else if (a.rfind("--", 0) == 0) return icanc::tools::printUsage(kUsage, false);
     else scenarios.push_back(a);
   }
   if (scenarios.empty()) return icanc::tools::printUsage(kUsage, false);
   try {
-    for (const std::string& s : scenarios) follow(s, twist, trace);
+    for (const std::string& s : scenarios) follow(s, twist, speed_only, trace);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icanc_sim_odometry: %s\n", e.what());
     return 1;

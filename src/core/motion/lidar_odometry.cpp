@@ -63,6 +63,8 @@ const char* toString(LidarOdometryStats::Result result) {
       return "too few points (motion prior)";
     case LidarOdometryStats::Result::kReset:
       return "reset (time went backwards)";
+    case LidarOdometryStats::Result::kHeld:
+      return "registered, along-track from the measured twist";
   }
   return "?";
 }
@@ -257,7 +259,16 @@ void LidarOdometry::findBlock(const std::int32_t base[3], std::int32_t voxels[8]
 }
 
 bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
-                                 Eigen::Isometry3d& result) {
+                                 Eigen::Isometry3d& result, const Eigen::Vector3d* held) {
+  slid_ = false;
+  // Held: the step is solved in the five directions orthogonal to (held, 0): the other horizontal
+  // one, up, and the three rotations.
+  Eigen::Matrix<double, 6, 5> basis = Eigen::Matrix<double, 6, 5>::Zero();
+  if (held) {
+    basis.block<3, 1>(0, 0) = Eigen::Vector3d(-held->y(), held->x(), 0.0).normalized();
+    basis(2, 1) = 1.0;
+    basis.block<3, 3>(3, 2).setIdentity();
+  }
   const float max_d2 = static_cast<float>(9.0 * sigma * sigma);  // 3 sigma
   const double kernel = sigma / 3.0;
   const double kernel2 = kernel * kernel;
@@ -353,7 +364,10 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       gradient += plane_gradient;
       weight_sum += plane_weight;
     }
-    const Eigen::Matrix<double, 6, 1> dx = hessian.ldlt().solve(-gradient);
+    const Eigen::Matrix<double, 6, 1> dx =
+        held ? Eigen::Matrix<double, 6, 1>(
+                   basis * (basis.transpose() * hessian * basis).ldlt().solve(-basis.transpose() * gradient))
+             : Eigen::Matrix<double, 6, 1>(hessian.ldlt().solve(-gradient));
     if (!dx.allFinite()) break;
     translation += dx.head<3>();
     const double angle = dx.tail<3>().norm();
@@ -366,18 +380,29 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   result.setIdentity();
   result.linear() = Eigen::Quaterniond(rotation).normalized().toRotationMatrix();
   result.translation() = translation;
-  if (matched >= 6) stats_.horizontal_observability = horizontalObservability(result, max_d2);
+  if (matched >= 6)
+    stats_.horizontal_observability =
+        horizontalObservability(result, max_d2, &weakest_, &across_observability_);
   // Degenerate: too few matches, a rotation the points cannot observe (all on one line: the
   // smallest eigenvalue of the information, per unit weight, near zero), a horizontal direction
   // no matched surface faces (horizontal_observability), or a correction of the prior no real
   // vehicle makes in one frame.
   if (matched < 6 || static_cast<double>(matched) < params_.min_correspondence_ratio * n)
     return false;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian,
-                                                                       Eigen::EigenvaluesOnly);
-  if (!(eig.eigenvalues()(0) > 1e-3 * weight_sum)) return false;
-  // A horizontal direction the matched surfaces do not constrain: ICP slid along it.
-  if (stats_.horizontal_observability < params_.min_horizontal_observability) return false;
+  if (held) {  // the five directions solved
+    const Eigen::Matrix<double, 5, 5> reduced = basis.transpose() * hessian * basis;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eig(reduced, Eigen::EigenvaluesOnly);
+    if (!(eig.eigenvalues()(0) > 1e-3 * weight_sum)) return false;
+  } else {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian,
+                                                                         Eigen::EigenvaluesOnly);
+    if (!(eig.eigenvalues()(0) > 1e-3 * weight_sum)) return false;
+    // A horizontal direction the matched surfaces do not constrain: ICP slid along it.
+    if (stats_.horizontal_observability < params_.min_horizontal_observability) {
+      slid_ = across_observability_ >= params_.min_horizontal_observability;
+      return false;
+    }
+  }
   if ((result.translation() - guess.translation()).norm() > params_.max_correction_m) return false;
   return result.matrix().allFinite();
 }
@@ -412,7 +437,8 @@ bool LidarOdometry::fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& norm
   return true;
 }
 
-double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, float max_d2) const {
+double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, float max_d2,
+                                              Eigen::Vector3d* weakest, double* across) const {
   const Eigen::Matrix3f r = pose.rotation().cast<float>();
   const Eigen::Vector3f t = pose.translation().cast<float>();
   const int per_voxel = params_.max_points_per_voxel;
@@ -449,9 +475,13 @@ double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, flo
     info += n * n.transpose();
     ++used;
   }
+  if (across) *across = 0.0;
   if (used == 0) return 0.0;
   const Eigen::Matrix2d horizontal = info.topLeftCorner<2, 2>() / static_cast<double>(used);
-  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(horizontal, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(horizontal);
+  if (weakest) *weakest = Eigen::Vector3d(eig.eigenvectors()(0, 0), eig.eigenvectors()(1, 0), 0.0);
+  if (across) *across = eig.eigenvalues()(1);
+  return eig.eigenvalues()(0);
 }
 
 void LidarOdometry::updateMap(const Eigen::Isometry3d& pose) {
@@ -604,6 +634,17 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
     stats_.result = LidarOdometryStats::Result::kDegenerate;
     countSeed(seeded);
     estimate = fallback;
+    // Slid along one direction only, and no gyro: the other five from the scene (the turn from
+    // the walls), that one from the measured speed. With a gyro its yaw rate is kept: ICP's yaw on
+    // such a scene is the noisier (the suite's false alarms 155 -> 176 with it, docs/lidar_odometry.md).
+    const Eigen::Vector3d along = weakest_;
+    if (seeded && slid_ && !std::isfinite(seed_.yaw_rate_rad_s) &&
+        registerScan(fallback, stats_.threshold_m, estimate, &along)) {
+      ++counters_.held;
+      stats_.result = LidarOdometryStats::Result::kHeld;
+    } else {
+      estimate = fallback;
+    }
   }
   const double t2 = odometryNowMs();
   stats_.register_ms = t2 - t1;

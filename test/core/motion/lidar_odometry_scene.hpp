@@ -48,6 +48,11 @@ inline sim::Scene corridor() {
   return scene;
 }
 
+// Walls 4.5 m either side of the drive of truePose (straight, a 1 rad left turn at 3-5 s, straight
+// again), made of 1.2 m pieces every metre of the path: the road turns, and nothing stands across
+// it.
+inline sim::Scene bendingCorridor();
+
 inline sim::Scene street() {
   sim::Scene scene;
   for (int i = 0; i < 8; ++i) {
@@ -93,6 +98,21 @@ inline Eigen::Isometry3d truePose(double t, double speed = 8.0, bool turn = true
 
 // One scan from base_link at `base_pose` (a VLP-16 unless `model` says otherwise).
 // The scan in the sensor frame (organized, NaN for no return), as a driver would publish it.
+inline sim::Scene bendingCorridor() {
+  sim::Scene scene;
+  for (double t = -1.0; t < 9.0; t += 0.125) {  // a metre of path per step at 8 m/s
+    const Eigen::Isometry3d p = truePose(std::max(0.0, t)) *
+                                Eigen::Translation3d(8.0 * std::min(0.0, t), 0.0, 0.0);
+    const double yaw = std::atan2(p(1, 0), p(0, 0));
+    for (const double side : {-5.0, 5.0}) {
+      const Eigen::Vector3d c = p * Eigen::Vector3d(0.0, side, 0.0);
+      scene.objects.push_back(box(static_cast<float>(c.x()), static_cast<float>(c.y()), 1.2f, 1.0f,
+                                  4.0f, static_cast<float>(yaw)));
+    }
+  }
+  return scene;
+}
+
 inline Cloud sensorScan(const sim::Scene& scene, double t, const Eigen::Isometry3d& base_pose,
                         std::mt19937_64& rng, float range_std = 0.05f,
                         const sim::LidarModel& model = sim::LidarModel::vlp16()) {

@@ -101,6 +101,8 @@ struct LidarOdometryStats {
     kFirstFrame,    // map started, pose unchanged
     kRegistered,    // ICP result
     kDegenerate,    // registration rejected: pose from the motion prior
+    kHeld,          // a horizontal direction unobserved, a measured speed but no yaw rate:
+                    // registered with the translation along it held at the speed's (seedTwist)
     kExtrapolated,  // too few points (empty / tiny cloud): pose from the motion prior
     kReset,         // stamp went backwards: everything restarted at this frame
   };
@@ -126,6 +128,7 @@ const char* toString(LidarOdometryStats::Result result);
 
 struct LidarOdometryCounters {
   std::uint64_t frames = 0, registered = 0, degenerate = 0, extrapolated = 0, resets = 0;
+  std::uint64_t held = 0;  // of the degenerate, registered along the rest (Result::kHeld)
   std::uint64_t gaps = 0;  // dt above max_dt_s: prior dropped
   std::uint64_t speed_seeded = 0;  // poses from the vehicle's measured twist (seedTwist)
   std::uint64_t nonfinite_points = 0;
@@ -182,7 +185,10 @@ class LidarOdometry {
   // "straight on" into a bend. With a seed, that pose turns at the measured yaw rate (when
   // measured; else the prior's turn) and moves at the measured speed along the chord of the turn
   // (a car does not slide sideways), each the mean of this seed and the previous frame's when it
-  // had one. Registered frames are as without it. A non-finite speed: no seed.
+  // had one. Registered frames are as without it. Without a yaw rate (NaN), a frame that slid
+  // along one horizontal direction only (walls along the road) is registered in the other five
+  // with the translation along it held at the measured speed's (Result::kHeld): the turn from the
+  // walls. A non-finite speed: no seed.
   void seedTwist(const MeasuredTwist& twist);
 
   const Eigen::Isometry3d& pose() const { return pose_; }
@@ -252,11 +258,19 @@ class LidarOdometry {
   // (voxel indices), returned as its key; findBlock: each voxel's map slot (-1: empty).
   std::uint64_t blockCorner(const Eigen::Vector3f& s, std::int32_t base[3]) const;
   void findBlock(const std::int32_t base[3], std::int32_t voxels[8]) const;
-  // ICP from `guess`; false when the result is degenerate.
-  bool registerScan(const Eigen::Isometry3d& guess, double sigma, Eigen::Isometry3d& result);
+  // ICP from `guess`; false when the result is degenerate (slid_: only because a horizontal
+  // direction was unobserved, weakest_ that direction in odom, while the one across it was:
+  // walls along a road, not an open road, whose rings lock the yaw as well). With `held` (a horizontal unit
+  // vector in odom), the translation along it stays the guess's: the other five degrees of
+  // freedom are solved, and the horizontal observability is not asked for.
+  bool registerScan(const Eigen::Isometry3d& guess, double sigma, Eigen::Isometry3d& result,
+                    const Eigen::Vector3d* held = nullptr);
   // LidarOdometryStats::horizontal_observability of the registration points at `pose`, matches
   // within sqrt(max_d2).
-  double horizontalObservability(const Eigen::Isometry3d& pose, float max_d2) const;
+  // weakest: set to the unit horizontal direction (odom) the matched surfaces constrain least;
+  // across: the same share for the direction across it (the largest eigenvalue).
+  double horizontalObservability(const Eigen::Isometry3d& pose, float max_d2,
+                                 Eigen::Vector3d* weakest = nullptr, double* across = nullptr) const;
   void updateMap(const Eigen::Isometry3d& pose);
   void pruneMap(const Eigen::Vector3d& origin);
   double adaptiveThreshold() const;
@@ -285,6 +299,9 @@ class LidarOdometry {
   // The plane of the block's map points: false when fewer than 5 or not planar.
   bool fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& normal) const;
   std::vector<Neighbourhood> neighbourhoods_;
+  bool slid_ = false;
+  Eigen::Vector3d weakest_ = Eigen::Vector3d::UnitX();
+  double across_observability_ = 0.0;
 
   // Map: voxel key -> slot; slot s holds counts_[s] points at points_[s * per_voxel].
   VoxelIndex map_index_;
