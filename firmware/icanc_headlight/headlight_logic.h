@@ -89,7 +89,9 @@ class SegmentLevels {
   static const uint8_t kMaxSegments = 8;
 
   explicit SegmentLevels(uint32_t timeout_ms = HeadlightLogic::kDefaultTimeoutMs)
-      : timeout_ms_(timeout_ms), count_(0), has_levels_(false), last_ms_(0) {}
+      : timeout_ms_(timeout_ms), count_(0), has_levels_(false), last_ms_(0) {
+    for (uint8_t i = 0; i < kMaxSegments; ++i) levels_[i] = 255;  // never read before set; full ON
+  }
 
   void onLevels(const uint8_t* levels, uint32_t n, uint32_t now_ms) {
     count_ = n < kMaxSegments ? static_cast<uint8_t>(n) : kMaxSegments;
