@@ -248,7 +248,13 @@ TEST_F(LightBridge, HeartbeatRepeatsAnUnchangedCommandThenFailsSafe) {
   EXPECT_GT(median_gap_ms, 70.0) << "heartbeat faster than 10 Hz";
   EXPECT_LT(median_gap_ms, 140.0) << "heartbeat slower than 10 Hz";
   for (std::size_t i = before; i < cmds.size(); ++i) EXPECT_FALSE(cmds[i].value);
-  EXPECT_FALSE(board().lampOn());
+  // The lamp is OFF, unless the board's own watchdog fired: a stall of the loaded machine (the
+  // sanitized suite on 2 cores) that left more than its 500 ms between two heartbeats.
+  double widest_gap_ms = gaps_ms.empty() ? 0.0 : *std::max_element(gaps_ms.begin(), gaps_ms.end());
+  if (!cmds.empty()) widest_gap_ms = std::max(widest_gap_ms, (steadySeconds() - cmds.back().time_s) * 1000.0);
+  if (widest_gap_ms < 0.9 * icanc_fw::HeadlightLogic::kDefaultTimeoutMs) {
+    EXPECT_FALSE(board().lampOn()) << "widest heartbeat gap " << widest_gap_ms << " ms";
+  }
   // No lamp_cmd for cmd_stale_timeout_s (1 s): the bridge commands ON.
   EXPECT_TRUE(waitFor([&] { return board().lampOn(); }, 1.0)) << "stale lamp_cmd must fail safe ON";
   EXPECT_TRUE(board().commands().back().value);
