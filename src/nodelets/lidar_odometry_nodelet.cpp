@@ -2,8 +2,8 @@
 // odom_frame -> base_frame at the cloud's stamp and nav_msgs/Odometry on `lidar_odom` out. Glue
 // only: decoding checks, tf2, parameters and diagnostics here; the registration is
 // icanc::LidarOdometry. Idle (no subscription) unless the namespace parameter ego_motion/source is
-// "lidar", so icanc.launch can always load it. With ~speed_topic (geometry_msgs/TwistStamped: the
-// vehicle's forward speed in twist.linear.x, wheel speed on CAN; with ~speed_yaw_rate its gyro's
+// "lidar", so icanc.launch can always load it. With ~twist_topic (geometry_msgs/TwistStamped: the
+// vehicle's forward speed in twist.linear.x, wheel speed on CAN; with ~twist_yaw_rate its gyro's
 // yaw rate in twist.angular.z), frames whose scene fixes no motion take that motion
 // (LidarOdometry::seedTwist) instead of "as before".
 #include <map>
@@ -42,17 +42,17 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     reader.read("base_frame", base_frame_);
     reader.read("odom_frame", odom_frame_);
     reader.read("max_points", max_points_);
-    reader.read("speed_topic", speed_topic_);
-    reader.read("speed_max_age_s", speed_max_age_s_);
-    reader.read("speed_yaw_rate", speed_yaw_rate_);
+    reader.read("twist_topic", twist_topic_);
+    reader.read("twist_max_age_s", twist_max_age_s_);
+    reader.read("twist_yaw_rate", twist_yaw_rate_);
     const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
     std::string why = validate(params);
     if (why.empty() && max_points_ <= 0) why = "max_points must be > 0";
     if (why.empty() && (base_frame_.empty() || odom_frame_.empty()))
       why = "base_frame and odom_frame must not be empty";
     if (why.empty() && base_frame_ == odom_frame_) why = "base_frame must differ from odom_frame";
-    if (why.empty() && !(speed_max_age_s_ > 0.0 && speed_max_age_s_ <= 1.0))
-      why = "speed_max_age_s must be in (0, 1]";
+    if (why.empty() && !(twist_max_age_s_ > 0.0 && twist_max_age_s_ <= 1.0))
+      why = "twist_max_age_s must be in (0, 1]";
     if (why.empty()) why = rate_problem;
     if (!checkParams(getName(), reader, why)) return;
 
@@ -71,11 +71,11 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     diagnostics_->updater().add("lidar odometry", this, &LidarOdometryNodelet::diagnose);
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("lidar_odom", 5);
     sub_ = nh.subscribe("points", 2, &LidarOdometryNodelet::onCloud, this);
-    if (!speed_topic_.empty()) {
-      speed_sub_ = nh.subscribe(speed_topic_, 50, &LidarOdometryNodelet::onSpeed, this);
+    if (!twist_topic_.empty()) {
+      twist_sub_ = nh.subscribe(twist_topic_, 50, &LidarOdometryNodelet::onSpeed, this);
       NODELET_INFO("LidarOdometry: the vehicle's speed%s from %s (twist.linear.x%s) where the "
-                   "scene fixes no motion", speed_yaw_rate_ ? " and yaw rate" : "",
-                   speed_sub_.getTopic().c_str(), speed_yaw_rate_ ? ", angular.z" : "");
+                   "scene fixes no motion", twist_yaw_rate_ ? " and yaw rate" : "",
+                   twist_sub_.getTopic().c_str(), twist_yaw_rate_ ? ", angular.z" : "");
     }
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     NODELET_INFO("LidarOdometry on %s -> tf %s -> %s, %s", sub_.getTopic().c_str(),
@@ -101,32 +101,32 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
   void onSpeed(const geometry_msgs::TwistStamped::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     MeasuredTwist twist = measuredTwist(msg->twist.linear.x);
-    if (speed_yaw_rate_) twist.yaw_rate_rad_s = msg->twist.angular.z;
+    if (twist_yaw_rate_) twist.yaw_rate_rad_s = msg->twist.angular.z;
     const TwistHistory::Added added = speeds_.add(msg->header.stamp.toSec(), twist);
     if (added == TwistHistory::Added::kInvalid) {
       ++invalid_speeds_;
       NODELET_ERROR_THROTTLE(1.0, "vehicle twist on %s dropped: %g m/s, %g rad/s at stamp %.3f is "
-                             "no measurement", speed_sub_.getTopic().c_str(), msg->twist.linear.x,
+                             "no measurement", twist_sub_.getTopic().c_str(), msg->twist.linear.x,
                              msg->twist.angular.z, msg->header.stamp.toSec());
     } else if (added == TwistHistory::Added::kRestarted) {
       ++speed_restarts_;
       NODELET_WARN_THROTTLE(1.0, "vehicle speed stamp went backwards on %s (bag loop?): history "
-                            "restarted", speed_sub_.getTopic().c_str());
+                            "restarted", twist_sub_.getTopic().c_str());
     }
   }
 
   // The vehicle's measured twist at the cloud's stamp, handed to the odometry for this frame.
   void seedTwist(const ros::Time& stamp) {
-    if (speed_topic_.empty()) return;
+    if (twist_topic_.empty()) return;
     MeasuredTwist twist;
-    if (speeds_.at(stamp.toSec(), speed_max_age_s_, twist)) {
+    if (speeds_.at(stamp.toSec(), twist_max_age_s_, twist)) {
       odometry_->seedTwist(twist);
       return;
     }
     ++speed_missing_;
     NODELET_WARN_THROTTLE(5.0, "no vehicle speed on %s within %.2f s of the cloud at %.3f: the "
-                          "LiDAR alone for this frame", speed_sub_.getTopic().c_str(),
-                          speed_max_age_s_, stamp.toSec());
+                          "LiDAR alone for this frame", twist_sub_.getTopic().c_str(),
+                          twist_max_age_s_, stamp.toSec());
   }
 
   void onCloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -257,7 +257,7 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     stat.add("resets: time backwards", c.resets);
     stat.add("gaps above max_dt_s", c.gaps);
     stat.add("non-finite points", c.nonfinite_points);
-    stat.add("speed topic", speed_topic_.empty() ? std::string("none") : speed_sub_.getTopic());
+    stat.add("twist topic", twist_topic_.empty() ? std::string("none") : twist_sub_.getTopic());
     stat.add("poses from the measured twist (scene degenerate)", c.speed_seeded);
     stat.add("clouds without a vehicle speed", speed_missing_);
     stat.add("invalid vehicle speeds", invalid_speeds_);
@@ -281,15 +281,15 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   ros::Publisher odom_pub_;
-  ros::Subscriber sub_, speed_sub_;
+  ros::Subscriber sub_, twist_sub_;
 
   std::string base_frame_ = "base_link";
   std::string odom_frame_ = "odom";
   int max_points_ = 2000000;
   double expected_rate_hz_ = 10.0;
-  std::string speed_topic_;         // "": no vehicle speed
-  double speed_max_age_s_ = 0.2;    // a speed this far from the cloud's stamp is not used [s]
-  bool speed_yaw_rate_ = false;     // twist.angular.z is the vehicle's yaw rate (a gyro)
+  std::string twist_topic_;         // "": no vehicle speed
+  double twist_max_age_s_ = 0.2;    // a speed this far from the cloud's stamp is not used [s]
+  bool twist_yaw_rate_ = false;     // twist.angular.z is the vehicle's yaw rate (a gyro)
   TwistHistory speeds_;
 
   std::mutex mutex_;  // the cloud callback and the diagnostics timer

@@ -105,24 +105,28 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   ros::param::get(opt.ns + "/ego_motion/source", ego_source);
   std::vector<rosbag::MessageInstance> motion;
   // Its measured speed (icanc_sim_bag's /vehicle/twist), when the graph's LidarOdometry takes one.
-  std::string speed_topic;
-  if (ego_source == "lidar") ros::param::get(opt.ns + "/lidar_odometry/speed_topic", speed_topic);
-  if (!speed_topic.empty()) speed_topic = ros::names::resolve(opt.ns, speed_topic);
+  std::string twist_topic;
+  if (ego_source == "lidar") ros::param::get(opt.ns + "/lidar_odometry/twist_topic", twist_topic);
+  if (!twist_topic.empty()) twist_topic = ros::names::resolve(opt.ns, twist_topic);
   std::vector<std::string> motion_topics;
   if (opt.publish_tf && ego_source != "lidar") motion_topics = {"/tf", opt.odom_topic};
-  if (!speed_topic.empty()) motion_topics.push_back(speed_topic);
+  if (!twist_topic.empty()) motion_topics.push_back(twist_topic);
   if (!motion_topics.empty())
     for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(motion_topics)))
       motion.push_back(m);
   const bool has_tf = std::any_of(motion.begin(), motion.end(),
                                   [](const rosbag::MessageInstance& m) { return m.getTopic() == "/tf"; });
   const bool has_speed = std::any_of(motion.begin(), motion.end(), [&](const rosbag::MessageInstance& m) {
-    return m.getTopic() == speed_topic;
+    return m.getTopic() == twist_topic;
   });
   ros::Publisher tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
   ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>(opt.odom_topic, 100);
   ros::Publisher speed_pub;
-  if (has_speed) speed_pub = nh.advertise<geometry_msgs::TwistStamped>(speed_topic, 100);
+  if (has_speed) speed_pub = nh.advertise<geometry_msgs::TwistStamped>(twist_topic, 100);
+  // The measured twist goes 0.15 s ahead of each cloud (the samples the odometry interpolates at
+  // its stamp left a frame earlier): two subscriptions of the manager are served in no set order,
+  // and a sample published just before the cloud might come after it.
+  const ros::Duration motion_ahead(has_speed ? 0.15 : 0.0);
   std::size_t next_motion = 0;
   const auto publishMotionUpTo = [&](const ros::Time& stamp) {
     for (; next_motion < motion.size() && motion[next_motion].getTime() <= stamp; ++next_motion) {
@@ -165,7 +169,7 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
     }
     clock.clock = stamp;
     clock_pub.publish(clock);
-    publishMotionUpTo(m.getTime());
+    publishMotionUpTo(m.getTime() + motion_ahead);
     cloud_pub.publish(cloud);
 
     EvalFrame f;

@@ -12,7 +12,7 @@
 //
 //   icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time 1000]
 //                 [--profile PROFILE.yaml] [--truth-topic /ground_truth] [--odom-topic /odom]
-//                 [--speed-topic /vehicle/twist]
+//                 [--twist-topic /vehicle/twist]
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -80,7 +80,7 @@ int usage(bool asked = false) {
   return icanc::tools::printUsage(
       "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
       "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n"
-      "                     [--odom-topic /odom] [--speed-topic /vehicle/twist]\n",
+      "                     [--odom-topic /odom] [--twist-topic /vehicle/twist]\n",
       asked);
 }
 
@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string scenario_path = argv[1], bag_path = argv[2];
   std::string topic = "/points", truth_topic = "/ground_truth", odom_topic = "/odom",
-              speed_topic = "/vehicle/twist", profile_override;
+              twist_topic = "/vehicle/twist", profile_override;
   double start_time = 1000.0;
   for (int i = 3; i < argc; i += 2) {
     if (i + 1 >= argc) return usage();
@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
     else if (flag == "--profile") profile_override = argv[i + 1];
     else if (flag == "--truth-topic") truth_topic = argv[i + 1];
     else if (flag == "--odom-topic") odom_topic = argv[i + 1];
-    else if (flag == "--speed-topic") speed_topic = argv[i + 1];
+    else if (flag == "--twist-topic") twist_topic = argv[i + 1];
     else return usage();
   }
   ros::Time::init();
@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
       bag.write(odom_topic, stamp, toOdometry(s, t, stamp));
       for (int j = 0; j < static_cast<int>(icanc::sim::kCanTwistHz * frame_dt + 0.5); ++j) {
         const double dt = j / icanc::sim::kCanTwistHz;
-        bag.write(speed_topic, stamp + ros::Duration(dt),
+        bag.write(twist_topic, stamp + ros::Duration(dt),
                   toTwistStamped(icanc::sim::canTwist(s, t + dt, wheel_rng), s.vehicle_frame,
                                  stamp + ros::Duration(dt)));
       }

@@ -11,7 +11,7 @@
 // in range above the road (structure) against those on it, median per frame, and the horizontal
 // observability of the frames registered or found degenerate (median, min).
 // --twist: each frame also gets the vehicle's measured twist, as the nodelet gets it from
-// icanc_sim_bag's /vehicle/twist (sim::canTwist, the same draws; lidar_odometry/speed_yaw_rate of
+// icanc_sim_bag's /vehicle/twist (sim::canTwist, the same draws; lidar_odometry/twist_yaw_rate of
 // the profile says whether its yaw rate is taken). --speed: the same without the yaw rate (a
 // speed-only source).
 // --trace: one line per frame.
@@ -48,8 +48,8 @@ void follow(const std::string& path, bool twist, bool speed_only, bool trace) {
   icanc::LidarOdometry odometry(params);
   const icanc::sim::LidarModel model = icanc::sim::LidarModel::byName(s.lidar);
   std::mt19937_64 rng(s.seed), can_rng(s.seed + 1);  // as icanc_sim_bag draws them
-  // The nodelet's own key (not in LidarOdometryParams): does the speed topic carry a yaw rate.
-  const YAML::Node yaw_node = YAML::LoadFile(icanc::sim::profilePath(path, s.profile))["lidar_odometry"]["speed_yaw_rate"];
+  // The nodelet's own key (not in LidarOdometryParams): does the twist topic carry a yaw rate.
+  const YAML::Node yaw_node = YAML::LoadFile(icanc::sim::profilePath(path, s.profile))["lidar_odometry"]["twist_yaw_rate"];
   const bool yaw_rate = !speed_only && yaw_node && yaw_node.as<bool>();
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
   const Eigen::Affine3f mount(s.sensor_mount.matrix());  // sensor frame -> base_link

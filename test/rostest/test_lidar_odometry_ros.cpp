@@ -2,7 +2,7 @@
 // test_lidar, 1.8 m above base_link by a static tf this test broadcasts) of a vehicle pulling away
 // and turning in a street are published at 10 Hz; the nodelet's nav_msgs/Odometry and tf odom ->
 // base_link must be stamped with the clouds' stamps and follow the true path; a malformed cloud is
-// skipped without stopping it. In a corridor, the vehicle's speed on speed_topic carries the pose.
+// skipped without stopping it. In a corridor, the vehicle's speed on twist_topic carries the pose.
 // With ego_motion/source not "lidar" it stays idle.
 #include <algorithm>
 #include <cstdio>
@@ -117,7 +117,7 @@ TEST(LidarOdometryNodelet, PublishesTfAndOdometryAlongTheTruePath) {
   EXPECT_NEAR(tf.transform.rotation.z, last->pose.pose.orientation.z, 1e-6);
 }
 
-// The corridor (nothing faces along it) with the vehicle's speed on the profile's speed_topic
+// The corridor (nothing faces along it) with the vehicle's speed on the profile's twist_topic
 // (/vehicle/twist, geometry_msgs/TwistStamped at 50 Hz as a CAN bridge sends it, 1 % over): the
 // pose follows the vehicle, where without it the odometry says "not moving" (the core gtest
 // MeasuredSpeedCarriesItAlongACorridor: 24 m off). Its stamps start 100 s before the street's:
@@ -125,11 +125,11 @@ TEST(LidarOdometryNodelet, PublishesTfAndOdometryAlongTheTruePath) {
 // 500 m/s: dropped, the rest goes on.
 TEST(LidarOdometryNodelet, TheVehicleSpeedCarriesItWhereTheSceneCannot) {
   ros::NodeHandle nh;
-  std::string speed_topic;
-  ASSERT_TRUE(nh.getParam("/icanc/lidar_odometry/speed_topic", speed_topic));
-  ASSERT_EQ(speed_topic, "/vehicle/twist");
+  std::string twist_topic;
+  ASSERT_TRUE(nh.getParam("/icanc/lidar_odometry/twist_topic", twist_topic));
+  ASSERT_EQ(twist_topic, "/vehicle/twist");
   ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>("/test/points", 5);
-  ros::Publisher speed_pub = nh.advertise<geometry_msgs::TwistStamped>(speed_topic, 50);
+  ros::Publisher speed_pub = nh.advertise<geometry_msgs::TwistStamped>(twist_topic, 50);
   OdomRecorder rec;
   ros::Subscriber sub = nh.subscribe("/icanc/lidar_odom", 100, &OdomRecorder::onOdom, &rec);
   ASSERT_TRUE(waitForSubscriber(pub, 30.0));

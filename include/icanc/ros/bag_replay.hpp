@@ -26,7 +26,7 @@ struct ReplayOptions {
   // The bag's /tf (the vehicle's odom -> base_link) and odometry are published before each cloud,
   // up to its stamp, for the ego_motion sources tf and odometry; never when the graph's
   // ego_motion/source is lidar (the LidarOdometry nodelet publishes that transform itself); then
-  // the vehicle's measured speed is, on the graph's lidar_odometry/speed_topic when it has one.
+  // the vehicle's measured speed is, on the graph's lidar_odometry/twist_topic when it has one.
   bool publish_tf = true;
   std::string odom_topic = "/odom";  // nav_msgs/Odometry in the bag, if any
 };
