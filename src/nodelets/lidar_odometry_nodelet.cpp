@@ -100,6 +100,12 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
 
   void onSpeed(const geometry_msgs::TwistStamped::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (msg->header.stamp.isZero()) {  // an unstamped driver: nothing to match a cloud's stamp to
+      ++invalid_speeds_;
+      NODELET_ERROR_THROTTLE(1.0, "vehicle twist on %s dropped: header.stamp is 0 (it is matched to "
+                             "each cloud's stamp; stamp it when measured)", twist_sub_.getTopic().c_str());
+      return;
+    }
     MeasuredTwist twist = measuredTwist(msg->twist.linear.x);
     if (twist_yaw_rate_) twist.yaw_rate_rad_s = msg->twist.angular.z;
     const TwistHistory::Added added = speeds_.add(msg->header.stamp.toSec(), twist);

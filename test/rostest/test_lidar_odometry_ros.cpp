@@ -9,9 +9,11 @@
 #include <limits>
 #include <mutex>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <pcl_conversions/pcl_conversions.h>
@@ -121,8 +123,8 @@ TEST(LidarOdometryNodelet, PublishesTfAndOdometryAlongTheTruePath) {
 // (/vehicle/twist, geometry_msgs/TwistStamped at 50 Hz as a CAN bridge sends it, 1 % over): the
 // pose follows the vehicle, where without it the odometry says "not moving" (the core gtest
 // MeasuredSpeedCarriesItAlongACorridor: 24 m off). Its stamps start 100 s before the street's:
-// time going backwards restarts the odometry at identity. One speed is not a number and one is
-// 500 m/s: dropped, the rest goes on.
+// time going backwards restarts the odometry at identity. One speed is not a number, one is
+// 500 m/s and one has stamp 0: dropped and counted, the rest goes on.
 TEST(LidarOdometryNodelet, TheVehicleSpeedCarriesItWhereTheSceneCannot) {
   ros::NodeHandle nh;
   std::string twist_topic;
@@ -130,6 +132,17 @@ TEST(LidarOdometryNodelet, TheVehicleSpeedCarriesItWhereTheSceneCannot) {
   ASSERT_EQ(twist_topic, "/vehicle/twist");
   ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>("/test/points", 5);
   ros::Publisher speed_pub = nh.advertise<geometry_msgs::TwistStamped>(twist_topic, 50);
+  std::mutex diag_mutex;
+  double invalid_twists = -1.0;  // the odometry's diagnostics counter, last published
+  ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 20, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& status : m->status)
+          for (const auto& kv : status.values)
+            if (kv.key == "invalid vehicle speeds") {
+              std::lock_guard<std::mutex> l(diag_mutex);
+              invalid_twists = std::stod(kv.value);
+            }
+      });
   OdomRecorder rec;
   ros::Subscriber sub = nh.subscribe("/icanc/lidar_odom", 100, &OdomRecorder::onOdom, &rec);
   ASSERT_TRUE(waitForSubscriber(pub, 30.0));
@@ -149,6 +162,7 @@ TEST(LidarOdometryNodelet, TheVehicleSpeedCarriesItWhereTheSceneCannot) {
     speed.twist.linear.x = 1.01 * std::min(8.0, 4.0 * t);
     if (k == 52) speed.twist.linear.x = std::numeric_limits<double>::quiet_NaN();
     if (k == 73) speed.twist.linear.x = 500.0;
+    if (k == 91) speed.header.stamp = ros::Time();  // unstamped
     speed_pub.publish(speed);
     if (k % 5 == 0) {
       sensor_msgs::PointCloud2 msg;
@@ -176,6 +190,17 @@ TEST(LidarOdometryNodelet, TheVehicleSpeedCarriesItWhereTheSceneCannot) {
   std::printf("[ MEASURE ] corridor with the vehicle speed: worst error %.2f m over 24 m\n", worst);
   EXPECT_LT(worst, 0.6);
   EXPECT_NEAR(rec.msgs.back()->twist.twist.linear.x, 8.08, 0.4);
+  // The three samples that are no measurement, counted in diagnostics (published at 1 Hz).
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(5.0);
+  while (ros::WallTime::now() < until) {
+    {
+      std::lock_guard<std::mutex> l(diag_mutex);
+      if (invalid_twists >= 3.0) break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  std::lock_guard<std::mutex> l(diag_mutex);
+  EXPECT_EQ(invalid_twists, 3.0);
 }
 
 TEST(LidarOdometryNodelet, IdleUnlessTheSourceIsLidar) {
