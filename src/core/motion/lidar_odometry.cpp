@@ -633,7 +633,6 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
     ++counters_.degenerate;
     stats_.result = LidarOdometryStats::Result::kDegenerate;
     countSeed(seeded);
-    estimate = fallback;
     // Slid along one direction only, and no gyro: the other five from the scene (the turn from
     // the walls), that one from the measured speed. With a gyro its yaw rate is kept: ICP's yaw on
     // such a scene is the noisier (the suite's false alarms 155 -> 176 with it, docs/lidar_odometry.md).
