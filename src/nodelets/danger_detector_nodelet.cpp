@@ -8,6 +8,11 @@
 //       transform, a misconfigured target_frame) is refused: counted, a throttled ERROR,
 //       diagnostics ERROR, and nothing is published for it, so the LightController's watchdog
 //       lights the lamp rather than judging sensor-frame boxes by vehicle-frame rules.
+//   ~predictive/path_topic (string, "")  the planner's path (nav_msgs/Path, any frame tf brings
+//       into vehicle_frame): the predictive model predicts the vehicle along it instead of along
+//       the constant turn of its twist ("" = no planner). ~predictive/path_max_age_s (1.0) and
+//       ~predictive/path_max_offset_m (2.0): a path farther in time from the obstacles, or one the
+//       vehicle is farther from, is not used (counted; the twist then, as without a planner).
 #include <memory>
 #include <mutex>
 
@@ -22,6 +27,7 @@
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/markers.hpp"
 #include "icanc/ros/nodelet_support.hpp"
+#include "icanc/ros/planned_path_source.hpp"
 #include "icanc/ros/zero_copy.hpp"
 
 namespace icanc {
@@ -39,12 +45,18 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     reader.read("marker_lifetime_s", marker_style_.lifetime_s);
     reader.read("marker_section_length_m", marker_style_.section_length_m);
     reader.read("vehicle_frame", vehicle_frame_);
+    PlannedPathSource::Params path_params;
+    reader.read("predictive/path_topic", path_params.topic);
+    reader.read("predictive/path_max_age_s", path_params.max_age_s);
+    reader.read("predictive/path_max_offset_m", path_params.max_offset_m);
     std::string why = validate(params_);
+    if (why.empty()) why = PlannedPathSource::validate(path_params);
     if (why.empty() && bareFrame(vehicle_frame_).empty())
       why = "vehicle_frame must name the frame the obstacles come in (e.g. base_link)";
     acceptReconfigureKeys<DangerDetectorConfig>(reader);
     if (!checkParams(getName(), reader, why.empty() ? rate_problem : why)) return;
     hysteresis_.reset(new DangerHysteresis(params_));
+    planned_path_.reset(new PlannedPathSource(nh, path_params, getName()));
 
     // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
     // onInit is still running on a loaded machine.
@@ -55,9 +67,10 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
     sub_ = nh.subscribe("obstacles", 5, &DangerDetectorNodelet::onObstacles, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
-    NODELET_INFO("DangerDetector: model %s, half_width %.2f m, reaction_time %.2f s, frame %s",
+    NODELET_INFO("DangerDetector: model %s, half_width %.2f m, reaction_time %.2f s, frame %s, "
+                 "planned path %s",
                  toString(params_.model), params_.half_width_m, params_.reaction_time_s,
-                 vehicle_frame_.c_str());
+                 vehicle_frame_.c_str(), path_params.topic.empty() ? "none" : path_params.topic.c_str());
   }
 
   // tf2 frame ids carry no leading '/', tf1-era ones may: compare without it.
@@ -101,8 +114,11 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     std::uint32_t dangerous = 0;
     const bool predictive = params_.model == DangerModel::kPredictive;
     const double now = msg->header.stamp.toSec();
+    const std::shared_ptr<const EgoPath> path =
+        predictive && !out->obstacles.empty() ? planned_path_->at(msg->header.stamp, vehicle_frame_) : nullptr;
     for (Obstacle& o : out->obstacles) {
-      const ObjectKinematics k = toKinematics(o, msg->ego_twist);
+      ObjectKinematics k = toKinematics(o, msg->ego_twist);
+      k.ego_path = path;
       const DangerAssessment a = assessDanger(k, params_);
       o.section = static_cast<std::uint8_t>(a.section);
       o.closest_distance = static_cast<float>(a.distance_m);
@@ -144,11 +160,13 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     stat.add("model", toString(params_.model));
     stat.add("half_width_m", params_.half_width_m);
     stat.add("reaction_time_s", params_.reaction_time_s);
+    planned_path_->addTo(stat);
     live_->addTo(stat);
   }
 
   DangerParams params_;
   std::unique_ptr<DangerHysteresis> hysteresis_;
+  std::unique_ptr<PlannedPathSource> planned_path_;
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   double expected_rate_hz_ = 10.0;

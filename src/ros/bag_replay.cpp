@@ -8,6 +8,7 @@
 
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
 #include <ros/names.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -108,9 +109,14 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   std::string twist_topic;
   if (ego_source == "lidar") ros::param::get(opt.ns + "/lidar_odometry/twist_topic", twist_topic);
   if (!twist_topic.empty()) twist_topic = ros::names::resolve(opt.ns, twist_topic);
+  // The planner's path (icanc_sim_bag's /planned_path), when the graph's DangerDetector takes one.
+  std::string path_topic;
+  ros::param::get(opt.ns + "/danger_detector/predictive/path_topic", path_topic);
+  if (!path_topic.empty()) path_topic = ros::names::resolve(opt.ns, path_topic);
   std::vector<std::string> motion_topics;
   if (opt.publish_tf && ego_source != "lidar") motion_topics = {"/tf", opt.odom_topic};
   if (!twist_topic.empty()) motion_topics.push_back(twist_topic);
+  if (!path_topic.empty()) motion_topics.push_back(path_topic);
   if (!motion_topics.empty())
     for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(motion_topics)))
       motion.push_back(m);
@@ -121,8 +127,12 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   });
   ros::Publisher tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
   ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>(opt.odom_topic, 100);
-  ros::Publisher speed_pub;
+  const bool has_path = std::any_of(motion.begin(), motion.end(), [&](const rosbag::MessageInstance& m) {
+    return m.getTopic() == path_topic;
+  });
+  ros::Publisher speed_pub, path_pub;
   if (has_speed) speed_pub = nh.advertise<geometry_msgs::TwistStamped>(twist_topic, 100);
+  if (has_path) path_pub = nh.advertise<nav_msgs::Path>(path_topic, 10);
   // The measured twist goes 0.15 s ahead of each cloud (the samples the odometry interpolates at
   // its stamp left a frame earlier): two subscriptions of the manager are served in no set order,
   // and a sample published just before the cloud might come after it.
@@ -133,6 +143,7 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
       if (auto tf = motion[next_motion].instantiate<tf2_msgs::TFMessage>()) tf_pub.publish(tf);
       else if (auto odom = motion[next_motion].instantiate<nav_msgs::Odometry>()) odom_pub.publish(odom);
       else if (auto speed = motion[next_motion].instantiate<geometry_msgs::TwistStamped>()) speed_pub.publish(speed);
+      else if (auto path = motion[next_motion].instantiate<nav_msgs::Path>()) path_pub.publish(path);
     }
   };
 
@@ -144,7 +155,8 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
     clock_pub.publish(clock);  // the graph's timers need a clock to come up
     return cloud_pub.getNumSubscribers() > 0 && array_sub.getNumPublishers() > 0 &&
            state_sub.getNumPublishers() > 0 && (!has_tf || tf_pub.getNumSubscribers() > 0) &&
-           (!has_speed || speed_pub.getNumSubscribers() > 0);
+           (!has_speed || speed_pub.getNumSubscribers() > 0) &&
+           (!has_path || path_pub.getNumSubscribers() > 0);
   }, opt.graph_timeout_s);
   if (!up) throw std::runtime_error("the icanc graph in " + opt.ns + " did not come up");
   ros::WallDuration(0.3).sleep();  // let the connections settle

@@ -16,10 +16,15 @@
 // KITTI labels exist only in the front camera's field of view (about 90 degrees ahead): objects
 // beside or behind the car are in the clouds but not in the ground truth, and a track whose
 // object leaves that field of view is labelled only from the frames it has.
+//   /planned_path  nav_msgs/Path, frame "velodyne", same stamp as the cloud: the path the car
+//                  drove from 1 s behind to 6 s ahead (to the sequence's end), as the profile's
+//                  LiDAR odometry measures it over the whole sequence: what a planner the car
+//                  followed would have given (the predictive model's ~predictive/path_topic).
+//                  The labels' danger is judged along the same driven path.
 // Stamps: 1000.0 s + 0.1 s per frame (the tracking data has no timestamps).
 //
 //   icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml] [--frames N]
-//                   [--topic /points] [--sequence 0000]
+//                   [--topic /points] [--sequence 0000] [--path-topic /planned_path]
 // SEQUENCE_DIR holds velodyne/, label_02/ and calib/ (e.g. ../shared/data/kitti_tracking_0000).
 #include <cstdio>
 #include <cstdlib>
@@ -32,13 +37,16 @@
 
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
+#include <nav_msgs/Path.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include "icanc/ros/bag_static_tf.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/evaluation/truth_labels.hpp"
 #include "icanc/core/common/yaml_params.hpp"
+#include "icanc/core/motion/lidar_odometry.hpp"
 #include "icanc/ros/truth_msgs.hpp"
 #include "tool_help.hpp"
 
@@ -58,8 +66,44 @@ std::string frameName(const std::string& dir, int frame) {
 int usage(bool asked = false) {
   return icanc::tools::printUsage(
       "usage: icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml]\n"
-      "                       [--frames N] [--topic /points] [--sequence 0000]\n",
+      "                       [--frames N] [--topic /points] [--sequence 0000]\n"
+      "                       [--path-topic /planned_path]\n",
       asked);
+}
+
+// The poses of the vehicle over the sequence (odom_T_vehicle per frame), by the profile's LiDAR
+// odometry.
+std::vector<Eigen::Isometry3d> drivenPoses(const std::string& dir, int max_frames,
+                                           const icanc::LidarOdometryParams& params) {
+  icanc::LidarOdometry odometry(params);
+  std::vector<Eigen::Isometry3d> poses;
+  icanc::Cloud scan;
+  for (int f = 0; f < max_frames; ++f) {
+    const std::string path = frameName(dir, f);
+    if (!std::ifstream(path).good()) break;
+    icanc::kitti::readVelodyne(path, scan);
+    poses.push_back(odometry.registerFrom(kFramePeriodS * f, [&](auto&& sink) {
+      for (const auto& p : scan) sink(p.x, p.y, p.z);
+    }));
+  }
+  return poses;
+}
+
+// The driven path seen from frame f: the poses from 1 s behind to 6 s ahead in its vehicle frame.
+nav_msgs::Path plannedPath(const std::vector<Eigen::Isometry3d>& poses, int f, const ros::Time& stamp) {
+  constexpr int kBehind = 10, kAhead = 60;  // frames
+  nav_msgs::Path path;
+  path.header.stamp = stamp;
+  path.header.frame_id = kFrame;
+  const Eigen::Isometry3d here_inv = poses[static_cast<std::size_t>(f)].inverse();
+  const int last = static_cast<int>(poses.size()) - 1;
+  for (int j = std::max(0, f - kBehind); j <= std::min(last, f + kAhead); ++j) {
+    geometry_msgs::PoseStamped pose;
+    pose.header = path.header;
+    pose.pose = tf2::toMsg(here_inv * poses[static_cast<std::size_t>(j)]);
+    path.poses.push_back(pose);
+  }
+  return path;
 }
 
 }  // namespace
@@ -68,7 +112,8 @@ int main(int argc, char** argv) {
   if (icanc::tools::wantsHelp(argc, argv)) return usage(true);
   if (argc < 3) return usage();
   const std::string dir = argv[1], bag_path = argv[2];
-  std::string profile_path = "config/kitti_hdl64e.yaml", topic = "/points", sequence = "0000";
+  std::string profile_path = "config/kitti_hdl64e.yaml", topic = "/points", sequence = "0000",
+              path_topic = "/planned_path";
   int max_frames = 1 << 30;
   for (int i = 3; i < argc; i += 2) {
     if (i + 1 >= argc) return usage();
@@ -77,11 +122,13 @@ int main(int argc, char** argv) {
     else if (flag == "--frames") max_frames = std::atoi(argv[i + 1]);
     else if (flag == "--topic") topic = argv[i + 1];
     else if (flag == "--sequence") sequence = argv[i + 1];
+    else if (flag == "--path-topic") path_topic = argv[i + 1];
     else return usage();
   }
   ros::Time::init();
   try {
-    const icanc::CorridorParams corridor = icanc::loadProfile(profile_path).corridor;
+    const icanc::Profile profile = icanc::loadProfile(profile_path);
+    const icanc::CorridorParams corridor = profile.corridor;
     const icanc::kitti::Calib calib = icanc::kitti::readCalib(dir + "/calib/" + sequence + ".txt");
     const std::vector<icanc::kitti::VeloBox> velo = icanc::kitti::toVelodyne(
         icanc::kitti::readLabels(dir + "/label_02/" + sequence + ".txt"), calib);
@@ -105,6 +152,7 @@ int main(int argc, char** argv) {
     mount.transforms.push_back(identity);
     icanc::writeStaticTransforms(bag, t0, mount, "/icanc_kitti2bag");
 
+    const std::vector<Eigen::Isometry3d> driven = drivenPoses(dir, max_frames, profile.lidar_odometry);
     icanc::Cloud scan;
     int frames = 0;
     std::size_t points = 0, objects = 0, dangerous = 0, in_corridor = 0, dangerous_frames = 0;
@@ -142,6 +190,7 @@ int main(int argc, char** argv) {
       }
       objects += frame_boxes.size();
       dangerous_frames += any;
+      bag.write(path_topic, stamp, plannedPath(driven, f, stamp));
       bag.write(topic, stamp, cloud);
       bag.write("/ground_truth", stamp,
                 icanc::toGroundTruthArray(frame_boxes, frame_labels, num_points, corridor, stamp,

@@ -3,7 +3,9 @@
 // (nav_msgs/Odometry: the vehicle's pose in odom, its twist in the vehicle frame), /vehicle/twist
 // (geometry_msgs/TwistStamped at 50 Hz, as a vehicle's CAN bus gives it: sim::canTwist, the wheel
 // speed and the yaw rate with their errors; what the LiDAR odometry takes where the scene fixes no
-// motion) and
+// motion), /planned_path (nav_msgs/Path in odom with each cloud's stamp: the scripted path from 1 s
+// behind to 6 s ahead, as a planner that the vehicle follows gives it; what the predictive
+// model's ~predictive/path_topic takes) and
 // /ground_truth (icanc/GroundTruthArray, same stamp as each cloud, vehicle frame): every scene
 // object's true box, velocity relative to the vehicle, returns inside the box and its danger
 // label from the scripted motion (docs/design.md, "Ground truth for dangerous"). The corridor
@@ -12,7 +14,7 @@
 //
 //   icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time 1000]
 //                 [--profile PROFILE.yaml] [--truth-topic /ground_truth] [--odom-topic /odom]
-//                 [--twist-topic /vehicle/twist]
+//                 [--twist-topic /vehicle/twist] [--path-topic /planned_path]
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -26,6 +28,7 @@
 #include <rosbag/bag.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
@@ -80,7 +83,8 @@ int usage(bool asked = false) {
   return icanc::tools::printUsage(
       "usage: icanc_sim_bag SCENARIO.yaml OUT.bag [--topic /points] [--start-time SEC]\n"
       "                     [--profile PROFILE.yaml] [--truth-topic /ground_truth]\n"
-      "                     [--odom-topic /odom] [--twist-topic /vehicle/twist]\n",
+      "                     [--odom-topic /odom] [--twist-topic /vehicle/twist]\n"
+      "                     [--path-topic /planned_path]\n",
       asked);
 }
 
@@ -100,6 +104,25 @@ struct Episodes {
   }
 };
 
+// The path the vehicle drives, as a planner it follows would publish it at t: the scripted poses
+// from 1 s behind (not before the scenario's start) to 6 s ahead, every 0.2 s, in odom.
+nav_msgs::Path toPlannedPath(const icanc::sim::Scenario& s, double t, const ros::Time& stamp) {
+  constexpr int kBehind = 5, kAhead = 30;  // steps of kStepS
+  constexpr double kStepS = 0.2;
+  nav_msgs::Path path;
+  path.header.stamp = stamp;
+  path.header.frame_id = "odom";
+  for (int i = -kBehind; i <= kAhead; ++i) {
+    const double dt = i * kStepS;
+    if (t + dt < -1e-9) continue;
+    geometry_msgs::PoseStamped pose;
+    pose.header = path.header;
+    pose.pose = tf2::toMsg(s.vehiclePose(t + dt).cast<double>());
+    path.poses.push_back(pose);
+  }
+  return path;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -107,7 +130,7 @@ int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string scenario_path = argv[1], bag_path = argv[2];
   std::string topic = "/points", truth_topic = "/ground_truth", odom_topic = "/odom",
-              twist_topic = "/vehicle/twist", profile_override;
+              twist_topic = "/vehicle/twist", path_topic = "/planned_path", profile_override;
   double start_time = 1000.0;
   for (int i = 3; i < argc; i += 2) {
     if (i + 1 >= argc) return usage();
@@ -118,6 +141,7 @@ int main(int argc, char** argv) {
     else if (flag == "--truth-topic") truth_topic = argv[i + 1];
     else if (flag == "--odom-topic") odom_topic = argv[i + 1];
     else if (flag == "--twist-topic") twist_topic = argv[i + 1];
+    else if (flag == "--path-topic") path_topic = argv[i + 1];
     else return usage();
   }
   ros::Time::init();
@@ -181,6 +205,7 @@ int main(int argc, char** argv) {
                   toTwistStamped(icanc::sim::canTwist(s, t + dt, wheel_rng), s.vehicle_frame,
                                  stamp + ros::Duration(dt)));
       }
+      bag.write(path_topic, stamp, toPlannedPath(s, t, stamp));
       bag.write(topic, stamp, cloud);
       bag.write(truth_topic, stamp,
                 icanc::toGroundTruthArray(f.boxes, f.labels, f.num_points, corridor, stamp,

@@ -129,7 +129,12 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   const Eigen::Vector2d shrink = params.static_prior_k * Eigen::Vector2d(sigma_x, sigma_y);
   for (int axis = 0; axis < 2; ++axis)
     ground_v[axis] = std::copysign(std::max(0.0, std::abs(ground_v[axis]) - shrink[axis]), ground_v[axis]);
-  const bool turning = ego_w != 0.0;
+  // Along the planner's path while moving forward (at the speed over ground), else the twist.
+  const EgoPath* const path = object.ego_path && !object.ego_path->empty() && ego_v.x() > 0.0
+                                  ? object.ego_path.get()
+                                  : nullptr;
+  const double speed = ego_v.norm();
+  const bool turning = path != nullptr || ego_w != 0.0;
   const int steps = static_cast<int>(std::ceil(params.reaction_time_s / params.time_step_s - 1e-9));
   for (int i = 0; i <= steps; ++i) {
     const double t = std::min(i * params.time_step_s, params.reaction_time_s);
@@ -138,7 +143,8 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
     const double grow_y = params.footprint_margin_m +
                           std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
     // Where the vehicle will be, and the object's displacement seen from there.
-    const PlanarPose ego = predictEgoPose(ego_v, ego_w, t, params.max_heading_change_rad);
+    const PlanarPose ego = path ? (t > 0.0 ? path->at(speed * t) : PlanarPose())
+                                : predictEgoPose(ego_v, ego_w, t, params.max_heading_change_rad);
     const Eigen::Rotation2Dd to_future(-ego.yaw);
     const Eigen::Vector2d shift = ground_v * t - ego.position;
     // The corridor grown by the uncertainty against the moved parts: the axis-aligned box first,

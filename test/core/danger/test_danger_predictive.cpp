@@ -3,6 +3,8 @@
 // |y| <= 0.7 + 0.3 m, 0 <= x <= 0.5 + 1.0 m, reaction time 3 s.
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -382,6 +384,53 @@ TEST(DangerPredictiveYoungTracks, MotionMinHitsIsValidated) {
   EXPECT_NE(validate(p).find("motion_min_hits"), std::string::npos);
   p.motion_min_hits = 4;
   EXPECT_EQ(validate(p), "");
+}
+
+// The planner's path: a left bend of `radius` from the vehicle on (arc points every metre).
+std::shared_ptr<const EgoPath> leftBendPath(double radius, double length) {
+  std::vector<Eigen::Vector2d> points;
+  for (double s = 0.0; s <= length; s += 1.0) points.push_back(onBend(radius, s, 0.0));
+  auto path = std::make_shared<EgoPath>();
+  EXPECT_EQ(path->set(points, 2.0, M_PI / 2.0), EgoPath::Refused::kNone);
+  return path;
+}
+
+TEST(DangerPredictivePlannedPath, AnSBendsParkedCarIsBesideThePathNotInTheTurnsCorridor) {
+  // The vehicle still turns right (-0.15 rad/s at 10 m/s) where the road already bends left
+  // (KITTI 0000's S-bend): a car parked on the right of the road, 3.3 m from the path's centre
+  // line (its box, axis-aligned in the vehicle frame, 2 m off it where the bend has turned the
+  // road by 0.24 rad), lies where the constant right turn goes.
+  const double speed = 10.0, w = -0.15, radius = 66.7;
+  const ObjectKinematics twist_only = staticOnBend(onBend(radius, 16.0, -3.3), 2.2, 0.9, speed, w);
+  ASSERT_TRUE(assessDanger(twist_only, roadCar()).dangerous);
+  ObjectKinematics planned = twist_only;
+  planned.ego_path = leftBendPath(radius, 40.0);
+  const DangerAssessment a = assessDanger(planned, roadCar());
+  EXPECT_FALSE(a.dangerous) << a.time_to_corridor_s;
+}
+
+TEST(DangerPredictivePlannedPath, AWalkerInTheLaneOfThePathIsDangerous) {
+  const double speed = 10.0, w = -0.15, radius = 66.7;
+  const ObjectKinematics twist_only = staticOnBend(onBend(radius, 15.0, 0.0), 0.3, 0.3, speed, w);
+  ASSERT_FALSE(assessDanger(twist_only, roadCar()).dangerous);  // left of the right turn
+  ObjectKinematics planned = twist_only;
+  planned.ego_path = leftBendPath(radius, 40.0);
+  const DangerAssessment a = assessDanger(planned, roadCar());
+  EXPECT_TRUE(a.dangerous);
+  EXPECT_GT(a.time_to_corridor_s, 0.5);  // reached at about (15 - 7.3) / 10 s
+  EXPECT_LT(a.time_to_corridor_s, 1.2);
+}
+
+TEST(DangerPredictivePlannedPath, ThePathIsFollowedOnlyWhileMovingForward) {
+  const double radius = 66.7;
+  ObjectKinematics reversing = boxAt(-8.0, 0.0, 0.3, 0.0, 0.0);
+  reversing.velocity << 2.0, 0.0, 0.0;  // a static walker behind, the vehicle reversing at 2 m/s
+  reversing.ego_velocity << -2.0, 0.0;
+  const DangerAssessment twist = assessDanger(reversing, roadCar());
+  reversing.ego_path = leftBendPath(radius, 40.0);
+  const DangerAssessment planned = assessDanger(reversing, roadCar());
+  EXPECT_EQ(planned.dangerous, twist.dangerous);
+  EXPECT_DOUBLE_EQ(planned.time_to_corridor_s, twist.time_to_corridor_s);
 }
 
 }  // namespace

@@ -5,12 +5,15 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // AlignedBox
+
+#include "icanc/core/motion/ego_path.hpp"
 
 namespace icanc {
 
@@ -123,6 +126,10 @@ struct ObjectKinematics {
   // still and the object moves at its relative velocity (the ego_motion source none).
   Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
   double ego_yaw_rate = 0.0;
+  // kPredictive: the planner's path in the vehicle frame (EgoPath::set). Set and not empty while
+  // the vehicle moves forward: the vehicle is predicted along it at its current speed instead of
+  // along the constant turn (max_heading_change_rad does not apply). Null: the twist.
+  std::shared_ptr<const EgoPath> ego_path;
   // Detections associated with the track so far (icanc/Obstacle hits); 0 = unknown, judged as a
   // settled track (DangerParams::motion_min_hits does not apply).
   std::uint32_t hits = 0;
