@@ -4,11 +4,15 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <memory>
 #include <stdexcept>
+#include <tuple>
+#include <vector>
 
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <ros/names.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -72,6 +76,45 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
   return out;
 }
 
+// The bag's planned path (the one the graph's DangerDetector takes) in the ground truth's frame at
+// each cloud's stamp, for the danger model on perfect tracks: the path with that stamp, placed by
+// the bag's own /tf when it is in another frame (icanc_sim_bag: odom). Null when there is none.
+class BagPaths {
+ public:
+  BagPaths(rosbag::Bag& bag, const std::string& topic, double max_offset_m) : max_offset_m_(max_offset_m) {
+    if (topic.empty()) return;
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({topic, "/tf"}))) {
+      if (auto path = m.instantiate<nav_msgs::Path>()) paths_[path->header.stamp] = path;
+      else if (auto tf = m.instantiate<tf2_msgs::TFMessage>())
+        for (const auto& t : tf->transforms)
+          poses_[{t.header.frame_id, t.child_frame_id, t.header.stamp.toNSec()}] = tf2::transformToEigen(t);
+    }
+  }
+
+  std::shared_ptr<const EgoPath> at(const ros::Time& stamp, const std::string& frame) const {
+    const auto it = paths_.find(stamp);
+    if (it == paths_.end()) return nullptr;
+    const nav_msgs::Path& msg = *it->second;
+    Eigen::Isometry3d frame_T_path = Eigen::Isometry3d::Identity();
+    if (msg.header.frame_id != frame) {
+      const auto pose = poses_.find({msg.header.frame_id, frame, stamp.toNSec()});
+      if (pose == poses_.end()) return nullptr;
+      frame_T_path = pose->second.inverse();
+    }
+    std::vector<Eigen::Vector2d> points;
+    for (const geometry_msgs::PoseStamped& p : msg.poses)
+      points.push_back((frame_T_path * Eigen::Vector3d(p.pose.position.x, p.pose.position.y, 0.0)).head<2>());
+    auto path = std::make_shared<EgoPath>();
+    if (path->set(points, max_offset_m_, M_PI / 2.0) != EgoPath::Refused::kNone) return nullptr;
+    return path;
+  }
+
+ private:
+  double max_offset_m_;
+  std::map<ros::Time, nav_msgs::Path::ConstPtr> paths_;
+  std::map<std::tuple<std::string, std::string, std::uint64_t>, Eigen::Isometry3d> poses_;  // parent, child, stamp
+};
+
 }  // namespace
 
 std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) {
@@ -84,9 +127,13 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
 
   // Ground truth by stamp, static transforms.
   std::map<ros::Time, std::vector<TruthObject>> truth;
+  std::string truth_frame;
   tf2_ros::StaticTransformBroadcaster static_tf;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({opt.truth_topic, "/tf_static"}))) {
-    if (auto gt = m.instantiate<GroundTruthArray>()) truth[gt->header.stamp] = toTruth(*gt);
+    if (auto gt = m.instantiate<GroundTruthArray>()) {
+      truth[gt->header.stamp] = toTruth(*gt);
+      truth_frame = gt->header.frame_id;
+    }
     if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) static_tf.sendTransform(tf->transforms);
   }
 
@@ -113,6 +160,9 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   std::string path_topic;
   ros::param::get(opt.ns + "/danger_detector/predictive/path_topic", path_topic);
   if (!path_topic.empty()) path_topic = ros::names::resolve(opt.ns, path_topic);
+  double path_max_offset_m = 2.0;
+  ros::param::get(opt.ns + "/danger_detector/predictive/path_max_offset_m", path_max_offset_m);
+  const BagPaths perfect_paths(bag, path_topic, path_max_offset_m);
   std::vector<std::string> motion_topics;
   if (opt.publish_tf && ego_source != "lidar") motion_topics = {"/tf", opt.odom_topic};
   if (!twist_topic.empty()) motion_topics.push_back(twist_topic);
@@ -204,6 +254,7 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
     }
     auto it = truth.find(stamp);
     if (it != truth.end()) f.truth = it->second;
+    f.ego_path = perfect_paths.at(stamp, truth_frame);
     frames.push_back(std::move(f));
     if (!ros::ok()) break;
   }

@@ -114,6 +114,25 @@ bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
   return object.hits > 0 && object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
 }
 
+namespace {
+
+// The vehicle s metres along the planner's path; beyond its end (a path shorter than the reaction
+// time's reach, a recording's last seconds) on from its end at the twist's turn rate, as the
+// vehicle would go without a path.
+PlanarPose alongPath(const EgoPath& path, const Eigen::Vector2d& ego_v, double ego_w, double s,
+                     const DangerParams& params) {
+  if (s <= path.length()) return path.at(s);
+  const PlanarPose end = path.at(path.length());
+  const PlanarPose beyond =
+      predictEgoPose(ego_v, ego_w, (s - path.length()) / ego_v.norm(), params.max_heading_change_rad);
+  PlanarPose pose;
+  pose.position = end.position + Eigen::Rotation2Dd(end.yaw) * beyond.position;
+  pose.yaw = end.yaw + beyond.yaw;
+  return pose;
+}
+
+}  // namespace
+
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params) {
   const double half_width = params.half_width_m + params.margin_m;
   const double length = params.vehicle_front_m + params.stopping_margin_m;
@@ -143,7 +162,8 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
     const double grow_y = params.footprint_margin_m +
                           std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
     // Where the vehicle will be, and the object's displacement seen from there.
-    const PlanarPose ego = path ? (t > 0.0 ? path->at(speed * t) : PlanarPose())
+    const PlanarPose ego = path ? (t > 0.0 ? alongPath(*path, ego_v, ego_w, speed * t, params)
+                                           : PlanarPose())
                                 : predictEgoPose(ego_v, ego_w, t, params.max_heading_change_rad);
     const Eigen::Rotation2Dd to_future(-ego.yaw);
     const Eigen::Vector2d shift = ground_v * t - ego.position;

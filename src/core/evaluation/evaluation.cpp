@@ -83,6 +83,7 @@ ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame) {
   ObjectKinematics k;
   k.ego_velocity = frame.ego_velocity;
   k.ego_yaw_rate = frame.ego_yaw_rate;
+  k.ego_path = frame.ego_path;
   const Eigen::Vector2d reach = axisAlignedReach(o);
   k.center << o.center, 0.0;
   k.aabb_min << o.center - reach, 0.0;
@@ -353,10 +354,11 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   r.static_speed_p50_mps = percentile(static_speeds, 0.5);
   r.static_speed_p90_mps = percentile(static_speeds, 0.9);
   r.static_speed_samples = static_speeds.size();
-  r.latency_p50_ms = percentile(latencies, 0.50);
-  r.latency_p90_ms = percentile(latencies, 0.90);
-  r.latency_p99_ms = percentile(latencies, 0.99);
-  r.latency_max_ms = percentile(latencies, 1.0);
+  std::sort(latencies.begin(), latencies.end());
+  r.latency_p50_ms = percentileOfSorted(latencies, 0.50);
+  r.latency_p90_ms = percentileOfSorted(latencies, 0.90);
+  r.latency_p99_ms = percentileOfSorted(latencies, 0.99);
+  r.latency_max_ms = percentileOfSorted(latencies, 1.0);
   r.duty_cycle = ratio(on_frames, r.processed);
   r.truth_duty_cycle = ratio(truth_on_frames, r.processed);
   r.perfect_tracks_duty_cycle = ratio(perfect_on_frames, r.processed);

@@ -421,6 +421,25 @@ TEST(DangerPredictivePlannedPath, AWalkerInTheLaneOfThePathIsDangerous) {
   EXPECT_LT(a.time_to_corridor_s, 1.2);
 }
 
+TEST(DangerPredictivePlannedPath, BeyondThePathsEndTheTwistsTurnGoesOn) {
+  // Turning left at 0.3 rad/s and 10 m/s; a walker standing in the lane of that turn 15 m on.
+  const double speed = 10.0, w = 0.3, radius = speed / w;
+  const ObjectKinematics twist_only = staticOnBend(onBend(radius, 15.0, 0.0), 0.3, 0.3, speed, w);
+  ASSERT_TRUE(assessDanger(twist_only, roadCar()).dangerous);
+  // A planner's path straight on for 40 m: the walker is beside it.
+  const auto straightPath = [](double length) {
+    auto path = std::make_shared<EgoPath>();
+    EXPECT_EQ(path->set({{0.0, 0.0}, {length, 0.0}}, 2.0, M_PI / 2.0), EgoPath::Refused::kNone);
+    return path;
+  };
+  ObjectKinematics planned = twist_only;
+  planned.ego_path = straightPath(40.0);
+  EXPECT_FALSE(assessDanger(planned, roadCar()).dangerous);
+  // A path that ends 3 m ahead (a recording's last frames): on from there at the twist's turn.
+  planned.ego_path = straightPath(3.0);
+  EXPECT_TRUE(assessDanger(planned, roadCar()).dangerous);
+}
+
 TEST(DangerPredictivePlannedPath, ThePathIsFollowedOnlyWhileMovingForward) {
   const double radius = 66.7;
   ObjectKinematics reversing = boxAt(-8.0, 0.0, 0.3, 0.0, 0.0);

@@ -8,10 +8,15 @@
 
 namespace icanc {
 
+// The same of values already sorted (several percentiles of one set: sort it once).
+inline double percentileOfSorted(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) return 0.0;
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(p * (sorted.size() - 1) + 0.5))];
+}
+
 inline double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
+  return percentileOfSorted(v, p);
 }
 
 }  // namespace icanc

@@ -128,7 +128,7 @@ struct ObjectKinematics {
   double ego_yaw_rate = 0.0;
   // kPredictive: the planner's path in the vehicle frame (EgoPath::set). Set and not empty while
   // the vehicle moves forward: the vehicle is predicted along it at its current speed instead of
-  // along the constant turn (max_heading_change_rad does not apply). Null: the twist.
+  // along the constant turn; beyond the path's end, on at the twist's turn rate. Null: the twist.
   std::shared_ptr<const EgoPath> ego_path;
   // Detections associated with the track so far (icanc/Obstacle hits); 0 = unknown, judged as a
   // settled track (DangerParams::motion_min_hits does not apply).

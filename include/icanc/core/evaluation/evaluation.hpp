@@ -55,6 +55,9 @@ struct EvalFrame {
   // perfect tracks predicts the vehicle along the same path.
   Eigen::Vector2d ego_velocity = Eigen::Vector2d::Zero();
   double ego_yaw_rate = 0.0;
+  // The planner's path the graph's DangerDetector took, in the truth's frame (null: none): the
+  // danger model on perfect tracks follows it too.
+  std::shared_ptr<const EgoPath> ego_path;
   bool ego_motion = false;  // the twist was measured (or carried over a missing pose)
   // The pose was missing, jumped or lost at this frame (ObstacleArray.ego_motion_status
   // extrapolated / jump / lost): in a replay of a bag that carries the poses, a run whose result
