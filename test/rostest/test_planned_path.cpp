@@ -14,20 +14,13 @@
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
+#include "graph_fixture.hpp"
 #include "icanc/ObstacleArray.h"
 
 namespace icanc {
 namespace {
 
-template <class Pred>
-bool waitFor(Pred pred, double timeout) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return pred();
-}
+using test::waitFor;
 
 constexpr double kRadius = 66.7, kSpeed = 10.0, kYawRate = -0.15;
 
