@@ -114,8 +114,11 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     std::uint32_t dangerous = 0;
     const bool predictive = params_.model == DangerModel::kPredictive;
     const double now = msg->header.stamp.toSec();
+    // The planner's path while moving forward (standing still, the model needs none).
+    const bool moving = msg->ego_twist.linear.x > 0.0;
     const std::shared_ptr<const EgoPath> path =
-        predictive && !out->obstacles.empty() ? planned_path_->at(msg->header.stamp, vehicle_frame_) : nullptr;
+        predictive && moving && !out->obstacles.empty() ? planned_path_->at(msg->header.stamp, vehicle_frame_)
+                                                        : nullptr;
     for (Obstacle& o : out->obstacles) {
       ObjectKinematics k = toKinematics(o, msg->ego_twist);
       k.ego_path = path;

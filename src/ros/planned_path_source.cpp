@@ -56,11 +56,23 @@ std::shared_ptr<const EgoPath> PlannedPathSource::at(const ros::Time& stamp, con
     refuse("path stamp farther than path_max_age_s from the obstacles'");
     return nullptr;
   }
+  // The transform at the obstacles' stamp: the ObstacleDetector had it, this listener may get
+  // it a moment later (a bounded wait, wall clock: sim time may stand still in a lockstep
+  // replay); a frame tf has never seen is refused at once.
+  const std::string& frame = msg->header.frame_id;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kTransformWaitS);
+  while (!tf_.canTransform(vehicle_frame, frame, stamp)) {
+    if (!tf_._frameExists(frame) || ros::WallTime::now() >= deadline || !ros::ok()) {
+      refuse("no transform " + frame + " -> " + vehicle_frame + " at the stamp");
+      return nullptr;
+    }
+    ros::WallDuration(0.002).sleep();
+  }
   Eigen::Isometry3d vehicle_T_path;
   try {
-    vehicle_T_path = tf2::transformToEigen(tf_.lookupTransform(vehicle_frame, msg->header.frame_id, stamp));
+    vehicle_T_path = tf2::transformToEigen(tf_.lookupTransform(vehicle_frame, frame, stamp));
   } catch (const tf2::TransformException& e) {
-    refuse(std::string("no transform ") + msg->header.frame_id + " -> " + vehicle_frame + " at the stamp");
+    refuse("no transform " + frame + " -> " + vehicle_frame + " at the stamp");
     return nullptr;
   }
   std::vector<Eigen::Vector2d> points;
