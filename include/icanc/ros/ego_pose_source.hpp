@@ -21,7 +21,9 @@ namespace icanc {
 
 class EgoPoseSource {
  public:
-  // For kOdometry it subscribes to `odom` in nh's namespace (remap it); the others use `tf`.
+  // For kOdometry it subscribes to `odom` in nh's namespace (remap it); the others use `tf`. nh's
+  // callbacks must not wait behind lookup()'s caller (a nodelet's MT handle, not its own queue's),
+  // or lookup() waits for odometry that cannot arrive.
   EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source, const std::string& fixed_frame,
                 tf2_ros::Buffer& tf);
 
