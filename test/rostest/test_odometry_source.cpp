@@ -67,16 +67,12 @@ class OdometrySource : public ::testing::Test {
   }
   void publishCloud(int k) { g_.publishFrame(0.1 * (k % 20), frameStamp(k)); }
   ObstacleArray::ConstPtr answer(int k) {
-    const ros::Time stamp = frameStamp(k);
-    ObstacleArray::ConstPtr answer;
-    waitFor([&] {
-      std::lock_guard<std::mutex> l(g_.recorder().mutex);
-      for (const auto& a : g_.recorder().detections)
-        if (a->header.stamp == stamp) answer = a;
-      return answer != nullptr;
-    }, 10.0);
-    return answer;
+    return g_.recorder().waitForStamp(g_.recorder().detections, frameStamp(k));
   }
+
+  // The next n clouds of the drive, each after its odometry: how many had each ego motion status.
+  // Every one measured must give the turn's twist back.
+  std::map<std::string, int> drive(int& k, int n);
 
   bool logged(const std::string& text) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -101,6 +97,22 @@ class OdometrySource : public ::testing::Test {
     EXPECT_NEAR((a)->ego_twist.angular.z, kYawRate, 2e-3);                    \
   } while (0)
 
+std::map<std::string, int> OdometrySource::drive(int& k, int n) {
+  std::map<std::string, int> seen;
+  for (int i = 0; i < n; ++i) {
+    sendOdometryUntil(frameStamp(++k) + ros::Duration(0.02));
+    const ObstacleArray::ConstPtr a = frame(k);
+    if (!a) {
+      ADD_FAILURE() << "cloud " << k << " was not answered";
+      ++seen["unanswered"];
+      continue;
+    }
+    ++seen[a->ego_motion_status];
+    if (a->ego_motion_status == "measured") EXPECT_TURN(a);
+  }
+  return seen;
+}
+
 TEST_F(OdometrySource, PosesInterpolatedAtTheCloudsStampsWaitedForAndRestartedOnALoop) {
   ASSERT_TRUE(g_.waitForGraph());
   ASSERT_TRUE(waitFor([&] { return odom_pub_.getNumSubscribers() > 0; }, 30.0));
@@ -119,14 +131,7 @@ TEST_F(OdometrySource, PosesInterpolatedAtTheCloudsStampsWaitedForAndRestartedOn
 
   // Measured: every cloud's stamp between two odometry messages, or on one (1.3 s = 100 * 13 ms).
   // On a loaded machine the odometry may come after the wait: that cloud is extrapolated.
-  std::map<std::string, int> seen;
-  for (int i = 0; i < 15; ++i) {
-    sendOdometryUntil(frameStamp(++k) + ros::Duration(0.02));
-    a = frame(k);
-    ASSERT_TRUE(a) << "cloud " << k;
-    ++seen[a->ego_motion_status];
-    if (a->ego_motion_status == "measured") EXPECT_TURN(a);
-  }
+  std::map<std::string, int> seen = drive(k, 15);
   EXPECT_GE(seen["measured"], 10) << "first " << seen["first"] << ", none " << seen["none"]
                                   << ", extrapolated " << seen["extrapolated"];
 
@@ -160,15 +165,8 @@ TEST_F(OdometrySource, PosesInterpolatedAtTheCloudsStampsWaitedForAndRestartedOn
   startDrive(start_ - ros::Duration(10.0));
   k = 0;
   sendOdometryUntil(frameStamp(++k) + ros::Duration(0.02));
-  g_.publishFrame(0.1, frameStamp(k));
-  seen.clear();
-  for (int i = 0; i < 6; ++i) {
-    sendOdometryUntil(frameStamp(++k) + ros::Duration(0.02));
-    a = frame(k);
-    ASSERT_TRUE(a) << "looped cloud " << k;
-    ++seen[a->ego_motion_status];
-    if (a->ego_motion_status == "measured") EXPECT_TURN(a);
-  }
+  publishCloud(k);
+  seen = drive(k, 6);
   EXPECT_GE(seen["measured"], 3) << "first " << seen["first"] << ", none " << seen["none"]
                                  << ", extrapolated " << seen["extrapolated"];
 }
