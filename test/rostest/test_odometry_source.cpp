@@ -28,10 +28,11 @@ class OdometrySource : public ::testing::Test {
  protected:
   OdometrySource() : g_("approach_front.yaml") {
     odom_pub_ = g_.nh().advertise<nav_msgs::Odometry>("/test/odom", 200);
-    log_sub_ = g_.nh().subscribe<rosgraph_msgs::Log>("/rosout", 200, [this](const rosgraph_msgs::Log::ConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      log_.push_back(m->msg);
-    });
+    log_sub_ = g_.nh().subscribe<rosgraph_msgs::Log>(
+        "/rosout", 200, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          log_.push_back(m->msg);
+        });
   }
 
   // Starts a drive at `start` (time zero of the turn): odometry every kOdomStepNs from there.
