@@ -1,7 +1,5 @@
 #include "icanc/ros/ego_pose_source.hpp"
 
-#include <algorithm>
-
 #include <ros/rate.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -15,7 +13,7 @@ constexpr double kPollS = 0.001;           // wall-clock poll while waiting for 
 
 EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
                              const std::string& fixed_frame, tf2_ros::Buffer& tf)
-    : source_(source), fixed_frame_(fixed_frame), tf_(tf) {
+    : source_(source), fixed_frame_(fixed_frame), tf_(tf), odometry_(kOdometryHistoryS) {
   if (source_ == EgoMotionSource::kOdometry)
     odom_sub_ = nh.subscribe("odom", 50, &EgoPoseSource::onOdometry, this);
 }
@@ -61,12 +59,8 @@ void EgoPoseSource::onOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   Eigen::Isometry3d pose;
   tf2::fromMsg(msg->pose.pose, pose);
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!odometry_.empty() && msg->header.stamp < odometry_.back().stamp) odometry_.clear();  // replay restarted
   if (!msg->child_frame_id.empty()) odometry_child_frame_ = msg->child_frame_id;
-  odometry_.push_back({msg->header.stamp, pose});
-  while (!odometry_.empty() &&
-         (msg->header.stamp - odometry_.front().stamp).toSec() > kOdometryHistoryS)
-    odometry_.pop_front();
+  odometry_.add(msg->header.stamp.toSec(), pose);  // an older stamp: the replay restarted
 }
 
 bool EgoPoseSource::interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3d& pose,
@@ -77,26 +71,27 @@ bool EgoPoseSource::interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3
     why = "no odometry received";
     return false;
   }
-  if (stamp < odometry_.front().stamp) {
+  const double t = stamp.toSec();
+  const auto around = odometry_.bracket(t);
+  if (!around.at_or_before) {
     why = "stamp older than the odometry kept";
     return false;
   }
-  if (stamp > odometry_.back().stamp) {
+  const auto& before = *around.at_or_before;
+  if (before.stamp_s == t) {  // on a sample: its pose as it came, not a slerp's round trip
+    pose = before.value;
+    return true;
+  }
+  if (!around.after) {
     why = "no odometry at the stamp yet";
     return false;
   }
-  const auto after = std::lower_bound(odometry_.begin(), odometry_.end(), stamp,
-                                      [](const Stamped& s, const ros::Time& t) { return s.stamp < t; });
-  if (after->stamp == stamp || after == odometry_.begin()) {
-    pose = after->pose;
-    return true;
-  }
-  const Stamped& before = *std::prev(after);
-  const double a = (stamp - before.stamp).toSec() / (after->stamp - before.stamp).toSec();
-  const Eigen::Quaterniond q0(before.pose.linear()), q1(after->pose.linear());
+  const auto& after = *around.after;
+  const double a = (t - before.stamp_s) / (after.stamp_s - before.stamp_s);
+  const Eigen::Quaterniond q0(before.value.linear()), q1(after.value.linear());
   pose.setIdentity();
   pose.linear() = q0.slerp(a, q1).toRotationMatrix();
-  pose.translation() = (1.0 - a) * before.pose.translation() + a * after->pose.translation();
+  pose.translation() = (1.0 - a) * before.value.translation() + a * after.value.translation();
   return true;
 }
 

@@ -59,6 +59,19 @@ struct Recorder {
   void onArray(const ObstacleArray::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); arrays.push_back(m); }
   void onDetections(const ObstacleArray::ConstPtr& m) { std::lock_guard<std::mutex> l(mutex); detections.push_back(m); }
   std::size_t count(const std::vector<ObstacleArray::ConstPtr>& v) { std::lock_guard<std::mutex> l(mutex); return v.size(); }
+  // The array of v (detections or arrays) stamped `stamp`, waited for up to timeout s of wall time
+  // (null when none came).
+  ObstacleArray::ConstPtr waitForStamp(const std::vector<ObstacleArray::ConstPtr>& v, const ros::Time& stamp,
+                                       double timeout = 10.0) {
+    ObstacleArray::ConstPtr found;
+    waitFor([&] {
+      std::lock_guard<std::mutex> l(mutex);
+      for (const auto& a : v)
+        if (a->header.stamp == stamp) found = a;
+      return found != nullptr;
+    }, timeout);
+    return found;
+  }
 };
 
 class GraphFixture {

@@ -36,13 +36,7 @@ class DebugClouds : public ::testing::Test {
   ObstacleArray::ConstPtr frame() {
     const ros::Time stamp = ros::Time::now();
     g_.publishFrame(1.0, stamp);
-    ObstacleArray::ConstPtr out;
-    waitFor([&] {
-      std::lock_guard<std::mutex> lock(g_.recorder().mutex);
-      for (const auto& a : g_.recorder().detections)
-        if (a->header.stamp == stamp) out = a;
-      return out != nullptr;
-    }, 10.0);
+    const ObstacleArray::ConstPtr out = g_.recorder().waitForStamp(g_.recorder().detections, stamp);
     ros::WallDuration(0.1).sleep();
     return out;
   }

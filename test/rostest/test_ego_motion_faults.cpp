@@ -40,14 +40,7 @@ class EgoMotionFaults : public ::testing::Test {
       tf_.sendTransform(t);
     }
     g_.publishFrame(1.0, stamp);
-    ObstacleArray::ConstPtr answer;
-    waitFor([&] {
-      std::lock_guard<std::mutex> l(g_.recorder().mutex);
-      for (const auto& a : g_.recorder().detections)
-        if (a->header.stamp == stamp) answer = a;
-      return answer != nullptr;
-    }, 10.0);
-    return answer;
+    return g_.recorder().waitForStamp(g_.recorder().detections, stamp);
   }
 
   long counter(const std::string& key) {

@@ -62,13 +62,7 @@ class LiveTuning : public ::testing::Test {
     const ros::Time stamp = t0_ + ros::Duration(t_);
     g_.publishFrame(t_, stamp);
     t_ += 1.0 / g_.scenario().rate_hz;
-    ObstacleArray::ConstPtr out;
-    waitFor([&] {
-      std::lock_guard<std::mutex> lock(g_.recorder().mutex);
-      for (const auto& a : g_.recorder().arrays)
-        if (a->header.stamp == stamp) out = a;
-      return out != nullptr;
-    }, 10.0);
+    const ObstacleArray::ConstPtr out = g_.recorder().waitForStamp(g_.recorder().arrays, stamp);
     ros::WallDuration(0.1).sleep();  // keep the sensor's 10 Hz: no watchdog, no stamp gaps
     return out;
   }

@@ -5,7 +5,6 @@
 // mean is icanc::EgoMotion's.
 #pragma once
 
-#include <deque>
 #include <mutex>
 #include <string>
 
@@ -15,13 +14,16 @@
 #include <ros/subscriber.h>
 #include <tf2_ros/buffer.h>
 
+#include "icanc/core/common/stamped_history.hpp"
 #include "icanc/core/motion/ego_motion.hpp"
 
 namespace icanc {
 
 class EgoPoseSource {
  public:
-  // For kOdometry it subscribes to `odom` in nh's namespace (remap it); the others use `tf`.
+  // For kOdometry it subscribes to `odom` in nh's namespace (remap it); the others use `tf`. nh's
+  // callbacks must not wait behind lookup()'s caller (a nodelet's MT handle, not its own queue's),
+  // or lookup() waits for odometry that cannot arrive.
   EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source, const std::string& fixed_frame,
                 tf2_ros::Buffer& tf);
 
@@ -50,11 +52,7 @@ class EgoPoseSource {
   tf2_ros::Buffer& tf_;
   ros::Subscriber odom_sub_;
   std::mutex mutex_;
-  struct Stamped {
-    ros::Time stamp;
-    Eigen::Isometry3d pose;
-  };
-  std::deque<Stamped> odometry_;  // by stamp, the last few seconds
+  StampedHistory<Eigen::Isometry3d> odometry_;  // by stamp (toSec()), the last few seconds
   std::string odometry_child_frame_;
   int consecutive_misses_ = 0;  // lookups in a row that found no pose
 };

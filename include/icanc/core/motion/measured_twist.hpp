@@ -5,9 +5,9 @@
 #pragma once
 
 #include <cstddef>
-#include <deque>
 #include <limits>
-#include <utility>
+
+#include "icanc/core/common/stamped_history.hpp"
 
 namespace icanc {
 
@@ -44,8 +44,8 @@ class TwistHistory {
   std::size_t size() const { return samples_.size(); }
 
  private:
-  double horizon_s_, max_speed_mps_, max_yaw_rate_rad_s_;
-  std::deque<std::pair<double, MeasuredTwist>> samples_;  // stamps non-decreasing
+  double max_speed_mps_, max_yaw_rate_rad_s_;
+  StampedHistory<MeasuredTwist> samples_;
 };
 
 }  // namespace icanc
