@@ -74,9 +74,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     detector_.reset(new ObstacleDetector(params));
     tf_buffer_.reset(new tf2_ros::Buffer());
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
-    // The odometry on the multi-threaded handle: its messages arrive while a cloud waits for them
-    // (on this nodelet's own queue they would queue behind the cloud, the wait in vain).
-    ego_source_.reset(new EgoPoseSource(getMTNodeHandle(), ego_params.source, fixed_frame_, *tf_buffer_));
+    // (Its odometry subscription runs on a thread of its own: it arrives while a cloud waits.)
+    ego_source_.reset(new EgoPoseSource(nh, ego_params.source, fixed_frame_, *tf_buffer_));
 
     // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
     // onInit is still running on a loaded machine.

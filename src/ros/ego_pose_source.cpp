@@ -14,8 +14,13 @@ constexpr double kPollS = 0.001;           // wall-clock poll while waiting for 
 EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
                              const std::string& fixed_frame, tf2_ros::Buffer& tf)
     : source_(source), fixed_frame_(fixed_frame), tf_(tf), odometry_(kOdometryHistoryS) {
-  if (source_ == EgoMotionSource::kOdometry)
-    odom_sub_ = nh.subscribe("odom", 50, &EgoPoseSource::onOdometry, this);
+  if (source_ != EgoMotionSource::kOdometry) return;
+  ros::SubscribeOptions options = ros::SubscribeOptions::create<nav_msgs::Odometry>(
+      "odom", 50, [this](const nav_msgs::Odometry::ConstPtr& msg) { onOdometry(msg); }, ros::VoidPtr(),
+      &odom_queue_);
+  odom_sub_ = nh.subscribe(options);
+  odom_spinner_.reset(new ros::AsyncSpinner(1, &odom_queue_));
+  odom_spinner_->start();
 }
 
 bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_frame,

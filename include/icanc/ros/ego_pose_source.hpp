@@ -10,7 +10,11 @@
 
 #include <Eigen/Geometry>
 #include <nav_msgs/Odometry.h>
+#include <memory>
+
+#include <ros/callback_queue.h>
 #include <ros/node_handle.h>
+#include <ros/spinner.h>
 #include <ros/subscriber.h>
 #include <tf2_ros/buffer.h>
 
@@ -50,11 +54,17 @@ class EgoPoseSource {
   EgoMotionSource source_;
   std::string fixed_frame_;
   tf2_ros::Buffer& tf_;
-  ros::Subscriber odom_sub_;
   std::mutex mutex_;
   StampedHistory<Eigen::Isometry3d> odometry_;  // by stamp (toSec()), the last few seconds
   std::string odometry_child_frame_;
   int consecutive_misses_ = 0;  // lookups in a row that found no pose
+  // The odometry on a queue and a thread of its own: a cloud's callback waits max_wait_s for the
+  // odometry at its stamp, and on the nodelet manager's threads that odometry can be queued behind
+  // the waiting callback (on 2 cores it was, in every run of the rostest odometry_source). Last:
+  // unsubscribed and joined before what the callback touches goes.
+  ros::CallbackQueue odom_queue_;
+  std::unique_ptr<ros::AsyncSpinner> odom_spinner_;
+  ros::Subscriber odom_sub_;
 };
 
 }  // namespace icanc
