@@ -59,7 +59,10 @@ std::shared_ptr<const EgoPath> PlannedPathSource::at(const ros::Time& stamp, con
   // The transform at the obstacles' stamp: the ObstacleDetector had it, this listener may get
   // it a moment later (a bounded wait, wall clock: sim time may stand still in a lockstep
   // replay); a frame tf has never seen is refused at once.
-  const std::string& frame = msg->header.frame_id;
+  // (tf2 frame ids carry no leading '/', tf1-era ones may.)
+  const std::string frame = !msg->header.frame_id.empty() && msg->header.frame_id[0] == '/'
+                                ? msg->header.frame_id.substr(1)
+                                : msg->header.frame_id;
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kTransformWaitS);
   while (!tf_.canTransform(vehicle_frame, frame, stamp)) {
     if (!tf_._frameExists(frame) || ros::WallTime::now() >= deadline || !ros::ok()) {

@@ -131,7 +131,8 @@ TEST_F(PlannedPath, TheCarBesideTheRoadIsDangerousAlongTheTwistOnly) {
   ros::WallDuration(0.5).sleep();
   ros::Time t(100.0);
   // The first array can be lost while the connection settles: arrays until one is answered.
-  publishPath(t, "odom", 0.0);
+  // (A tf1-era frame id, "/odom", is the same frame.)
+  publishPath(t, "/odom", 0.0);
   int first = -2;
   for (int i = 0; i < 6 && first == -2; ++i) first = judge(t += ros::Duration(0.1));
   ASSERT_NE(first, -2) << "the DangerDetector answered no array";
