@@ -78,7 +78,8 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
 
 // The bag's planned path (the one the graph's DangerDetector takes) in the ground truth's frame at
 // each cloud's stamp, for the danger model on perfect tracks: the path with that stamp, placed by
-// the bag's own /tf when it is in another frame (icanc_sim_bag: odom). Null when there is none.
+// the bag's own /tf when it is in another frame (a recorded planner's path in odom; icanc_sim_bag
+// and icanc_kitti2bag write theirs in the vehicle frame). Null when there is none.
 class BagPaths {
  public:
   BagPaths(rosbag::Bag& bag, const std::string& topic, double max_offset_m) : max_offset_m_(max_offset_m) {

@@ -3,9 +3,10 @@
 // (nav_msgs/Odometry: the vehicle's pose in odom, its twist in the vehicle frame), /vehicle/twist
 // (geometry_msgs/TwistStamped at 50 Hz, as a vehicle's CAN bus gives it: sim::canTwist, the wheel
 // speed and the yaw rate with their errors; what the LiDAR odometry takes where the scene fixes no
-// motion), /planned_path (nav_msgs/Path in odom with each cloud's stamp: the scripted path from 1 s
-// behind to 6 s ahead, as a planner that the vehicle follows gives it; what the predictive
-// model's ~predictive/path_topic takes) and
+// motion), /planned_path (nav_msgs/Path in the vehicle frame at each cloud's stamp: the scripted
+// path from 1 s behind to 6 s ahead, as a planner that the vehicle follows gives it, seen from the
+// vehicle, so it holds whatever the ego motion source's odom; what the predictive model's
+// ~predictive/path_topic takes) and
 // /ground_truth (icanc/GroundTruthArray, same stamp as each cloud, vehicle frame): every scene
 // object's true box, velocity relative to the vehicle, returns inside the box and its danger
 // label from the scripted motion (docs/design.md, "Ground truth for dangerous"). The corridor
@@ -105,19 +106,21 @@ struct Episodes {
 };
 
 // The path the vehicle drives, as a planner it follows would publish it at t: the scripted poses
-// from 1 s behind (not before the scenario's start) to 6 s ahead, every 0.2 s, in odom.
+// from 1 s behind (not before the scenario's start) to 6 s ahead, every 0.2 s, in the vehicle
+// frame at t.
 nav_msgs::Path toPlannedPath(const icanc::sim::Scenario& s, double t, const ros::Time& stamp) {
   constexpr int kBehind = 5, kAhead = 30;  // steps of kStepS
   constexpr double kStepS = 0.2;
   nav_msgs::Path path;
   path.header.stamp = stamp;
-  path.header.frame_id = "odom";
+  path.header.frame_id = s.vehicle_frame;
+  const Eigen::Isometry3f here_inv = s.vehiclePose(t).inverse();
   for (int i = -kBehind; i <= kAhead; ++i) {
     const double dt = i * kStepS;
     if (t + dt < -1e-9) continue;
     geometry_msgs::PoseStamped pose;
     pose.header = path.header;
-    pose.pose = tf2::toMsg(s.vehiclePose(t + dt).cast<double>());
+    pose.pose = tf2::toMsg((here_inv * s.vehiclePose(t + dt)).cast<double>());
     path.poses.push_back(pose);
   }
   return path;

@@ -1,7 +1,7 @@
 // icanc_sim_bag's ego motion topics (issue 19): for a vehicle that turns, /odom (nav_msgs/Odometry)
 // is written at every cloud stamp with the pose of base_link in odom equal to /tf's and to the
 // closed-form circle, and the twist in base_link (speed along x, yaw rate about z); /planned_path
-// (nav_msgs/Path) at every cloud stamp holds the path driven, through the vehicle's pose.
+// (nav_msgs/Path) at every cloud stamp holds the path driven, seen from the vehicle there.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -90,7 +90,7 @@ TEST(SimBag, OdometryFollowsTheTurningVehicleAtEveryCloudStamp) {
   std::remove(bag_path.c_str());
 }
 
-TEST(SimBag, PlannedPathIsThePathDrivenThroughEachCloudsPose) {
+TEST(SimBag, PlannedPathIsThePathDrivenSeenFromEachCloudsPose) {
   const std::string bag_path = turningBag("icanc_sim_bag_path_");
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   std::vector<ros::Time> clouds;
@@ -105,21 +105,21 @@ TEST(SimBag, PlannedPathIsThePathDrivenThroughEachCloudsPose) {
   for (std::size_t k = 0; k < clouds.size(); ++k) {
     const nav_msgs::Path& p = paths[k];
     EXPECT_EQ(p.header.stamp, clouds[k]);
-    EXPECT_EQ(p.header.frame_id, "odom");
+    EXPECT_EQ(p.header.frame_id, "base_link");
     ASSERT_GE(p.poses.size(), 31u);  // 6 s ahead every 0.2 s (and up to 1 s behind)
     const double t = 0.2 * double(k);
+    // The vehicle itself is on it (a pose at the origin), and its last pose is where the vehicle
+    // is 6 s later, seen from its pose at t.
     bool through_vehicle = false;
-    for (const geometry_msgs::PoseStamped& pose : p.poses) {
-      const std::array<double, 3> now = turningPose(t);
-      through_vehicle = through_vehicle || (std::hypot(pose.pose.position.x - now[0],
-                                                       pose.pose.position.y - now[1]) < 1e-4);
-    }
+    for (const geometry_msgs::PoseStamped& pose : p.poses)
+      through_vehicle = through_vehicle || std::hypot(pose.pose.position.x, pose.pose.position.y) < 1e-4;
     EXPECT_TRUE(through_vehicle) << t;
-    // Its last pose is where the vehicle is 6 s later.
-    const std::array<double, 3> end = turningPose(t + 6.0);
-    EXPECT_NEAR(p.poses.back().pose.position.x, end[0], 1e-3) << t;
-    EXPECT_NEAR(p.poses.back().pose.position.y, end[1], 1e-3) << t;
-    EXPECT_NEAR(std::remainder(yawOf(p.poses.back().pose.orientation) - end[2], 2.0 * M_PI), 0.0, 1e-4) << t;
+    const std::array<double, 3> now = turningPose(t), end = turningPose(t + 6.0);
+    const double dx = end[0] - now[0], dy = end[1] - now[1], c = std::cos(now[2]), s = std::sin(now[2]);
+    EXPECT_NEAR(p.poses.back().pose.position.x, c * dx + s * dy, 1e-3) << t;
+    EXPECT_NEAR(p.poses.back().pose.position.y, -s * dx + c * dy, 1e-3) << t;
+    EXPECT_NEAR(std::remainder(yawOf(p.poses.back().pose.orientation) - (end[2] - now[2]), 2.0 * M_PI), 0.0, 1e-4)
+        << t;
   }
   bag.close();
   std::remove(bag_path.c_str());
