@@ -17,10 +17,11 @@
 // beside or behind the car are in the clouds but not in the ground truth, and a track whose
 // object leaves that field of view is labelled only from the frames it has.
 //   /planned_path  nav_msgs/Path, frame "velodyne", same stamp as the cloud: the path the car
-//                  drove from 1 s behind to 6 s ahead (to the sequence's end), as the profile's
-//                  LiDAR odometry measures it over the whole sequence: what a planner the car
+//                  drove from 1 s behind to 6 s ahead (to the last frame converted), as the
+//                  profile's LiDAR odometry measures it over those frames: what a planner the car
 //                  followed would have given (the predictive model's ~predictive/path_topic).
-//                  The labels' danger is judged along the same driven path.
+//                  The labels' danger comes from the labelled positions of later frames, i.e.
+//                  along the path truly driven.
 // Stamps: 1000.0 s + 0.1 s per frame (the tracking data has no timestamps).
 //
 //   icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml] [--frames N]
