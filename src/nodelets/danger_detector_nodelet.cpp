@@ -73,11 +73,6 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
                  vehicle_frame_.c_str(), path_params.topic.empty() ? "none" : path_params.topic.c_str());
   }
 
-  // tf2 frame ids carry no leading '/', tf1-era ones may: compare without it.
-  static std::string bareFrame(const std::string& frame) {
-    return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
-  }
-
   // An array not in the vehicle frame: nothing is published (the watchdog lights the lamp).
   bool refuseFrame(const ObstacleArray& msg) {
     if (bareFrame(msg.header.frame_id) == bareFrame(vehicle_frame_)) {
@@ -114,11 +109,11 @@ class DangerDetectorNodelet : public nodelet::Nodelet {
     std::uint32_t dangerous = 0;
     const bool predictive = params_.model == DangerModel::kPredictive;
     const double now = msg->header.stamp.toSec();
-    // The planner's path while moving forward (standing still, the model needs none).
-    const bool moving = msg->ego_twist.linear.x > 0.0;
+    // The planner's path, looked up only when the model follows it (moving forward).
+    const bool follows = alongPlannedPath(Eigen::Vector2d(msg->ego_twist.linear.x, msg->ego_twist.linear.y));
     const std::shared_ptr<const EgoPath> path =
-        predictive && moving && !out->obstacles.empty() ? planned_path_->at(msg->header.stamp, vehicle_frame_)
-                                                        : nullptr;
+        predictive && follows && !out->obstacles.empty() ? planned_path_->at(msg->header.stamp, vehicle_frame_)
+                                                         : nullptr;
     for (Obstacle& o : out->obstacles) {
       ObjectKinematics k = toKinematics(o, msg->ego_twist);
       k.ego_path = path;

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <mutex>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -12,12 +12,12 @@
 #include <geometry_msgs/TwistStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
-#include <tf2_eigen/tf2_eigen.h>
 #include <ros/names.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
@@ -25,6 +25,7 @@
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/ros/param_reader.hpp"
+#include "icanc/ros/planned_path_source.hpp"
 
 namespace icanc {
 namespace {
@@ -82,9 +83,10 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
 // and icanc_kitti2bag write theirs in the vehicle frame). Null when there is none.
 class BagPaths {
  public:
-  BagPaths(rosbag::Bag& bag, const std::string& topic, double max_offset_m) : max_offset_m_(max_offset_m) {
-    if (topic.empty()) return;
-    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({topic, "/tf"}))) {
+  // params: the DangerDetector's (topic "": no path).
+  BagPaths(rosbag::Bag& bag, const PlannedPathSource::Params& params) : params_(params) {
+    if (params_.topic.empty()) return;
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery({params_.topic, "/tf"}))) {
       if (auto path = m.instantiate<nav_msgs::Path>()) paths_[path->header.stamp] = path;
       else if (auto tf = m.instantiate<tf2_msgs::TFMessage>())
         for (const auto& t : tf->transforms)
@@ -106,12 +108,13 @@ class BagPaths {
     for (const geometry_msgs::PoseStamped& p : msg.poses)
       points.push_back((frame_T_path * Eigen::Vector3d(p.pose.position.x, p.pose.position.y, 0.0)).head<2>());
     auto path = std::make_shared<EgoPath>();
-    if (path->set(points, max_offset_m_, M_PI / 2.0) != EgoPath::Refused::kNone) return nullptr;
+    if (path->set(points, params_.max_offset_m, params_.max_heading_offset_rad) != EgoPath::Refused::kNone)
+      return nullptr;
     return path;
   }
 
  private:
-  double max_offset_m_;
+  PlannedPathSource::Params params_;
   std::map<ros::Time, nav_msgs::Path::ConstPtr> paths_;
   std::map<std::tuple<std::string, std::string, std::uint64_t>, Eigen::Isometry3d> poses_;  // parent, child, stamp
 };
@@ -158,12 +161,12 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
   if (ego_source == "lidar") ros::param::get(opt.ns + "/lidar_odometry/twist_topic", twist_topic);
   if (!twist_topic.empty()) twist_topic = ros::names::resolve(opt.ns, twist_topic);
   // The planner's path (icanc_sim_bag's /planned_path), when the graph's DangerDetector takes one.
-  std::string path_topic;
-  ros::param::get(opt.ns + "/danger_detector/predictive/path_topic", path_topic);
-  if (!path_topic.empty()) path_topic = ros::names::resolve(opt.ns, path_topic);
-  double path_max_offset_m = 2.0;
-  ros::param::get(opt.ns + "/danger_detector/predictive/path_max_offset_m", path_max_offset_m);
-  const BagPaths perfect_paths(bag, path_topic, path_max_offset_m);
+  PlannedPathSource::Params path_params;
+  ros::param::get(opt.ns + "/danger_detector/predictive/path_topic", path_params.topic);
+  if (!path_params.topic.empty()) path_params.topic = ros::names::resolve(opt.ns, path_params.topic);
+  ros::param::get(opt.ns + "/danger_detector/predictive/path_max_offset_m", path_params.max_offset_m);
+  const BagPaths perfect_paths(bag, path_params);
+  const std::string& path_topic = path_params.topic;
   std::vector<std::string> motion_topics;
   if (opt.publish_tf && ego_source != "lidar") motion_topics = {"/tf", opt.odom_topic};
   if (!twist_topic.empty()) motion_topics.push_back(twist_topic);

@@ -6,6 +6,8 @@
 #include <ros/console.h>
 #include <tf2_eigen/tf2_eigen.h>
 
+#include "icanc/ros/nodelet_support.hpp"
+
 namespace icanc {
 
 std::string PlannedPathSource::validate(const Params& p) {
@@ -59,23 +61,20 @@ std::shared_ptr<const EgoPath> PlannedPathSource::at(const ros::Time& stamp, con
   // The transform at the obstacles' stamp: the ObstacleDetector had it, this listener may get
   // it a moment later (a bounded wait, wall clock: sim time may stand still in a lockstep
   // replay); a frame tf has never seen is refused at once.
-  // (tf2 frame ids carry no leading '/', tf1-era ones may.)
-  const std::string frame = !msg->header.frame_id.empty() && msg->header.frame_id[0] == '/'
-                                ? msg->header.frame_id.substr(1)
-                                : msg->header.frame_id;
+  const std::string frame = bareFrame(msg->header.frame_id), vehicle = bareFrame(vehicle_frame);
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kTransformWaitS);
-  while (!tf_.canTransform(vehicle_frame, frame, stamp)) {
+  while (!tf_.canTransform(vehicle, frame, stamp)) {
     if (!tf_._frameExists(frame) || ros::WallTime::now() >= deadline || !ros::ok()) {
-      refuse("no transform " + frame + " -> " + vehicle_frame + " at the stamp");
+      refuse("no transform " + frame + " -> " + vehicle + " at the stamp");
       return nullptr;
     }
     ros::WallDuration(0.002).sleep();
   }
   Eigen::Isometry3d vehicle_T_path;
   try {
-    vehicle_T_path = tf2::transformToEigen(tf_.lookupTransform(vehicle_frame, frame, stamp));
+    vehicle_T_path = tf2::transformToEigen(tf_.lookupTransform(vehicle, frame, stamp));
   } catch (const tf2::TransformException& e) {
-    refuse("no transform " + frame + " -> " + vehicle_frame + " at the stamp");
+    refuse("no transform " + frame + " -> " + vehicle + " at the stamp");
     return nullptr;
   }
   std::vector<Eigen::Vector2d> points;

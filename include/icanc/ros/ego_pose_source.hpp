@@ -5,13 +5,12 @@
 // mean is icanc::EgoMotion's.
 #pragma once
 
+#include <memory>
 #include <mutex>
 #include <string>
 
 #include <Eigen/Geometry>
 #include <nav_msgs/Odometry.h>
-#include <memory>
-
 #include <ros/callback_queue.h>
 #include <ros/node_handle.h>
 #include <ros/spinner.h>
@@ -25,9 +24,8 @@ namespace icanc {
 
 class EgoPoseSource {
  public:
-  // For kOdometry it subscribes to `odom` in nh's namespace (remap it); the others use `tf`. nh's
-  // callbacks must not wait behind lookup()'s caller (a nodelet's MT handle, not its own queue's),
-  // or lookup() waits for odometry that cannot arrive.
+  // For kOdometry it subscribes to `odom` in nh's namespace (remap it), on a queue and thread of
+  // its own (below); the others use `tf`.
   EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source, const std::string& fixed_frame,
                 tf2_ros::Buffer& tf);
 

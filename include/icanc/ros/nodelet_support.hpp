@@ -23,6 +23,11 @@ namespace icanc {
 // validate() result) under `name`. Returns false when the nodelet must not start.
 bool checkParams(const std::string& name, const ParamReader& reader, const std::string& validation);
 
+// A frame id as tf2 names it: tf2 frame ids carry no leading '/', tf1-era ones may.
+inline std::string bareFrame(const std::string& frame) {
+  return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
+}
+
 // target <- source at `stamp`, else the latest one (a static mount sent once, long before the
 // cloud). Throws tf2::TransformException when there is none.
 geometry_msgs::TransformStamped lookupAtStampOrLatest(const tf2_ros::Buffer& buffer,

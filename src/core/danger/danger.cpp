@@ -149,7 +149,7 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   for (int axis = 0; axis < 2; ++axis)
     ground_v[axis] = std::copysign(std::max(0.0, std::abs(ground_v[axis]) - shrink[axis]), ground_v[axis]);
   // Along the planner's path while moving forward (at the speed over ground), else the twist.
-  const EgoPath* const path = object.ego_path && !object.ego_path->empty() && ego_v.x() > 0.0
+  const EgoPath* const path = object.ego_path && !object.ego_path->empty() && alongPlannedPath(ego_v)
                                   ? object.ego_path.get()
                                   : nullptr;
   const double speed = ego_v.norm();

@@ -109,6 +109,10 @@ Eigen::Vector3d closestPoint(const Eigen::Vector3d& aabb_min, const Eigen::Vecto
 // Distance from the vehicle origin to the closest point of an axis-aligned box (its norm).
 double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector3d& aabb_max);
 
+// The predictive model follows the planner's path (ObjectKinematics::ego_path) only while the
+// vehicle moves forward; standing or reversing, its twist.
+inline bool alongPlannedPath(const Eigen::Vector2d& ego_velocity) { return ego_velocity.x() > 0.0; }
+
 // What the rules need of one tracked object.
 struct ObjectKinematics {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
