@@ -160,6 +160,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   lamp.recheck_below_s = params.lamp_recheck_below_s;
   lamp.watchdog_enabled = false;  // frames are given, not awaited
   LightController truth_lamp(lamp), perfect_lamp(lamp);
+  LampCauseLog causes(lamp);
   std::size_t truth_on_frames = 0, perfect_on_frames = 0;
   // On perfect tracks the true box is the whole object: footprint_margin_m, which makes up for
   // what the LiDAR does not see of it, is not added.
@@ -195,13 +196,16 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     truth_lamp.onInput(f.t, any_truly_dangerous);
     truth_on_frames += truth_lamp.on();
     latencies.push_back(f.latency_ms);
+    causes.beginFrame(f.t);
 
     std::vector<TruthObject> truth;
     for (const TruthObject& o : f.truth)
       if (o.num_points >= params.min_points && inScope(o.center, params)) truth.push_back(o);
     std::vector<DetectedObject> dets;
-    for (const DetectedObject& d : f.detections)
+    for (const DetectedObject& d : f.detections) {
       if (inScope(d.center, params)) dets.push_back(d);
+      else if (d.dangerous) causes.flag(LampCause::kUnscored);
+    }
     const std::vector<int> m = match(truth, dets, params.match_distance_m);
     std::set<std::uint32_t> flagged_ids;  // true objects flagged (match or fragment) this frame
     bool any_perfect_flag = false;
@@ -287,7 +291,12 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       // Danger per object-frame: its detection or one of its fragments flagged.
       const bool by_match = found && dets[m[i]].dangerous;
       const bool predicted = by_match || flagged_by[i] >= 0;
-      if (predicted) flagged_ids.insert(o.id);
+      if (predicted) {
+        flagged_ids.insert(o.id);
+        causes.flag(o.dangerous ? LampCause::kTrueDanger
+                    : perfect_flagged.count(o.id) ? LampCause::kModel
+                                                  : LampCause::kLabelledPerception);
+      }
       const Outcome outcome = outcomeOf(o.dangerous, predicted);
       count(r.danger, outcome);
       if (rows) {
@@ -309,6 +318,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       const TruthObject* unscored =
           fragment_of[j] < 0 ? unscoredObjectAt(f.truth, dets[j], params) : nullptr;
       if (unscored) {
+        if (dets[j].dangerous) causes.flag(LampCause::kUnscored);
         if (rows && dets[j].dangerous)
           rows->push_back(ScoredRow{f.t, Outcome::kDontCare, true, *unscored, true, false, dets[j], false});
         continue;
@@ -317,6 +327,9 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;
+        causes.flag(dets[j].velocity_over_ground.norm() < params.static_speed_mps
+                        ? LampCause::kUnlabelledStanding
+                        : LampCause::kUnlabelledMoving);
         if (rows) {
           rows->push_back(
               ScoredRow{f.t, Outcome::kFalsePositive, false, TruthObject(), true, false, dets[j], false});
@@ -362,6 +375,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   r.duty_cycle = ratio(on_frames, r.processed);
   r.truth_duty_cycle = ratio(truth_on_frames, r.processed);
   r.perfect_tracks_duty_cycle = ratio(perfect_on_frames, r.processed);
+  r.lamp_causes = causes.result();
   return r;
 }
 
@@ -399,7 +413,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       static_cast<unsigned long long>(r.perfect_tracks.fn),
       static_cast<unsigned long long>(r.perfect_tracks.tn), 100 * r.perfect_tracks.precision(),
       100 * r.perfect_tracks.recall(), 100 * r.perfect_tracks_duty_cycle);
-  return buf;
+  return buf + toText(r.lamp_causes);
 }
 
 std::string toJson(const EvalReport& r, const std::string& name) {
@@ -429,7 +443,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
     << ", \"duty_cycle\": " << r.duty_cycle
     << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << ", ";
   conf("perfect_tracks", r.perfect_tracks);
-  j << ", \"perfect_tracks_duty_cycle\": " << r.perfect_tracks_duty_cycle << "}";
+  j << ", \"perfect_tracks_duty_cycle\": " << r.perfect_tracks_duty_cycle
+    << ", \"lamp_causes\": " << toJson(r.lamp_causes) << "}";
   return j.str();
 }
 

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>  // AlignedBox2d
 
 #include "icanc/core/danger/danger.hpp"
+#include "icanc/core/evaluation/lamp_causes.hpp"
 
 namespace icanc {
 
@@ -148,6 +149,11 @@ struct EvalReport {
   // The lamp (EvalParams::lamp_*) driven by the danger model on perfect tracks: what the model
   // itself costs in lamp time once perception is perfect (truth_duty_cycle is the floor).
   double perfect_tracks_duty_cycle = 0.0;
+  // What kept the lamp on: the flags of each processed frame sorted by cause (a true danger, the
+  // model's own false alarm, perception's on a true object, a detection of no true object standing
+  // or moving over ground, unscored), the light controller re-run on each cause alone and on all
+  // but each one (lamp_causes.hpp).
+  LampCauses lamp_causes;
 };
 
 // One object-frame of the danger score and what decided it: an eligible true object (with the
