@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <tf2_eigen/tf2_eigen.h>
+
 namespace icanc {
 
 RawCloud toRawCloud(const sensor_msgs::PointCloud2& msg) {
@@ -90,6 +92,21 @@ ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego
     k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min),
                              Eigen::Vector2d(cell.x_max, cell.y_max));
   return k;
+}
+
+nav_msgs::Path toRelativePath(const std_msgs::Header& header, const Eigen::Isometry3d& here,
+                              const std::vector<Eigen::Isometry3d>& poses) {
+  nav_msgs::Path path;
+  path.header = header;
+  const Eigen::Isometry3d here_inv = here.inverse();
+  path.poses.reserve(poses.size());
+  for (const Eigen::Isometry3d& pose : poses) {
+    geometry_msgs::PoseStamped stamped;
+    stamped.header = header;
+    stamped.pose = tf2::toMsg(here_inv * pose);
+    path.poses.push_back(stamped);
+  }
+  return path;
 }
 
 }  // namespace icanc

@@ -27,6 +27,7 @@
 //   icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml] [--frames N]
 //                   [--topic /points] [--sequence 0000] [--path-topic /planned_path]
 // SEQUENCE_DIR holds velodyne/, label_02/ and calib/ (e.g. ../shared/data/kitti_tracking_0000).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -44,6 +45,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "icanc/ros/bag_static_tf.hpp"
+#include "icanc/ros/conversions.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/evaluation/truth_labels.hpp"
 #include "icanc/core/common/yaml_params.hpp"
@@ -93,18 +95,13 @@ std::vector<Eigen::Isometry3d> drivenPoses(const std::string& dir, int max_frame
 // The driven path seen from frame f: the poses from 1 s behind to 6 s ahead in its vehicle frame.
 nav_msgs::Path plannedPath(const std::vector<Eigen::Isometry3d>& poses, int f, const ros::Time& stamp) {
   constexpr int kBehind = 10, kAhead = 60;  // frames
-  nav_msgs::Path path;
-  path.header.stamp = stamp;
-  path.header.frame_id = kFrame;
-  const Eigen::Isometry3d here_inv = poses[static_cast<std::size_t>(f)].inverse();
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = kFrame;
   const int last = static_cast<int>(poses.size()) - 1;
-  for (int j = std::max(0, f - kBehind); j <= std::min(last, f + kAhead); ++j) {
-    geometry_msgs::PoseStamped pose;
-    pose.header = path.header;
-    pose.pose = tf2::toMsg(here_inv * poses[static_cast<std::size_t>(j)]);
-    path.poses.push_back(pose);
-  }
-  return path;
+  const std::vector<Eigen::Isometry3d> window(poses.begin() + std::max(0, f - kBehind),
+                                              poses.begin() + std::min(last, f + kAhead) + 1);
+  return icanc::toRelativePath(header, poses[static_cast<std::size_t>(f)], window);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "icanc/ros/bag_static_tf.hpp"
+#include "icanc/ros/conversions.hpp"
 #include "icanc/core/common/yaml_params.hpp"
 #include "icanc/ros/truth_msgs.hpp"
 #include "icanc/sim/lidar_sim.hpp"
@@ -111,19 +112,13 @@ struct Episodes {
 nav_msgs::Path toPlannedPath(const icanc::sim::Scenario& s, double t, const ros::Time& stamp) {
   constexpr int kBehind = 5, kAhead = 30;  // steps of kStepS
   constexpr double kStepS = 0.2;
-  nav_msgs::Path path;
-  path.header.stamp = stamp;
-  path.header.frame_id = s.vehicle_frame;
-  const Eigen::Isometry3f here_inv = s.vehiclePose(t).inverse();
-  for (int i = -kBehind; i <= kAhead; ++i) {
-    const double dt = i * kStepS;
-    if (t + dt < -1e-9) continue;
-    geometry_msgs::PoseStamped pose;
-    pose.header = path.header;
-    pose.pose = tf2::toMsg((here_inv * s.vehiclePose(t + dt)).cast<double>());
-    path.poses.push_back(pose);
-  }
-  return path;
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = s.vehicle_frame;
+  std::vector<Eigen::Isometry3d> poses;
+  for (int i = -kBehind; i <= kAhead; ++i)
+    if (t + i * kStepS >= -1e-9) poses.push_back(s.vehiclePose(t + i * kStepS).cast<double>());
+  return icanc::toRelativePath(header, s.vehiclePose(t).cast<double>(), poses);
 }
 
 }  // namespace

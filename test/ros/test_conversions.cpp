@@ -86,5 +86,34 @@ TEST(Conversions, VelocityOverGroundAndRelativeToATurningVehicle) {
   EXPECT_DOUBLE_EQ(k.ego_yaw_rate, 0.5);
 }
 
+// The planned path as the vehicle sees it: a vehicle at (10, 5) heading +y (90 deg) sees the
+// point 2 m further along +y 2 m straight ahead, and one 3 m to its right (+x in the fixed frame)
+// at y = -3, turned by -90 deg.
+TEST(Conversions, APathSeenFromTheVehiclesPose) {
+  const auto pose = [](double x, double y, double yaw) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translate(Eigen::Vector3d(x, y, 0.0));
+    p.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+    return p;
+  };
+  std_msgs::Header header;
+  header.frame_id = "base_link";
+  header.stamp = ros::Time(7.0);
+  const nav_msgs::Path path = toRelativePath(
+      header, pose(10, 5, M_PI / 2), {pose(10, 5, M_PI / 2), pose(10, 7, M_PI / 2), pose(13, 5, 0.0)});
+  ASSERT_EQ(path.poses.size(), 3u);
+  EXPECT_EQ(path.header.frame_id, "base_link");
+  EXPECT_EQ(path.poses[2].header.stamp, ros::Time(7.0));
+  EXPECT_NEAR(path.poses[0].pose.position.x, 0.0, 1e-9);
+  EXPECT_NEAR(path.poses[1].pose.position.x, 2.0, 1e-9);
+  EXPECT_NEAR(path.poses[1].pose.position.y, 0.0, 1e-9);
+  EXPECT_NEAR(path.poses[2].pose.position.x, 0.0, 1e-9);
+  EXPECT_NEAR(path.poses[2].pose.position.y, -3.0, 1e-9);
+  // -90 deg about z: w = cos(-45 deg), z = sin(-45 deg).
+  EXPECT_NEAR(path.poses[2].pose.orientation.z, -std::sqrt(0.5), 1e-9);
+  EXPECT_NEAR(path.poses[2].pose.orientation.w, std::sqrt(0.5), 1e-9);
+  EXPECT_TRUE(toRelativePath(header, pose(0, 0, 0), {}).poses.empty());
+}
+
 }  // namespace
 }  // namespace icanc

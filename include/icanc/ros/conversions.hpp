@@ -1,8 +1,13 @@
 // Message <-> core conversions.
 #pragma once
 
+#include <vector>
+
+#include <Eigen/Geometry>
 #include <geometry_msgs/Twist.h>
+#include <nav_msgs/Path.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
 
 #include "icanc/Obstacle.h"
 #include "icanc/core/perception/cloud_decode.hpp"
@@ -25,5 +30,11 @@ geometry_msgs::Twist toTwistMsg(const EgoStep& ego);
 
 // What the danger rules need of an icanc/Obstacle, with the vehicle's twist of its array.
 ObjectKinematics toKinematics(const Obstacle& obstacle, const geometry_msgs::Twist& ego_twist);
+
+// A path of `poses` (in one fixed frame) as the vehicle at `here` (its pose in that frame) sees
+// it: each pose relative to here, every one under `header` (the vehicle frame, the stamp). The
+// simulated and KITTI bags' /planned_path.
+nav_msgs::Path toRelativePath(const std_msgs::Header& header, const Eigen::Isometry3d& here,
+                              const std::vector<Eigen::Isometry3d>& poses);
 
 }  // namespace icanc
