@@ -198,10 +198,16 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
   if (params.model == DangerModel::kPredictive) {
     a.time_to_corridor_s = predictedTimeToCorridor(object, params);
+    // The mean footprint lies inside the grown one: it can only reach the corridor later, if at all.
+    if (a.time_to_corridor_s >= 0.0) {
+      DangerParams mean = params;
+      mean.velocity_std_k = 0.0;
+      a.mean_time_to_corridor_s = predictedTimeToCorridor(object, mean);
+    }
     // A young track's prediction is not evidence yet: only what is in the corridor or about to
     // enter it (the hysteresis's immediate case) counts.
     if (isYoungTrack(object, params) && a.time_to_corridor_s > params.immediate_ttc_s)
-      a.time_to_corridor_s = -1.0;
+      a.time_to_corridor_s = a.mean_time_to_corridor_s = -1.0;
     a.dangerous = a.time_to_corridor_s >= 0.0;
   } else {
     a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;
@@ -222,7 +228,10 @@ bool DangerHysteresis::update(std::uint32_t id, const DangerAssessment& raw, dou
   if (raw.dangerous) {
     ++track.positives;
     track.negatives = 0;
-    const bool urgent = raw.time_to_corridor_s >= 0.0 && raw.time_to_corridor_s <= params_.immediate_ttc_s;
+    // At once only when the mean prediction is about to enter: danger that only the velocity's
+    // uncertainty brings near waits for on_frames (a young track's, whose sigma is still large).
+    const bool urgent =
+        raw.mean_time_to_corridor_s >= 0.0 && raw.mean_time_to_corridor_s <= params_.immediate_ttc_s;
     if (urgent || track.positives >= params_.on_frames) track.on = true;
   } else {
     ++track.negatives;

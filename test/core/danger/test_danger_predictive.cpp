@@ -168,7 +168,7 @@ TEST(DangerHysteresis, HoldsThroughOneSafeFrameAndDropsAfterOffFrames) {
   far_danger.dangerous = true;
   far_danger.time_to_corridor_s = 2.5;
   urgent.dangerous = true;
-  urgent.time_to_corridor_s = 0.5;
+  urgent.time_to_corridor_s = urgent.mean_time_to_corridor_s = 0.5;
   EXPECT_FALSE(h.update(7, far_danger, 0.0));  // first positive frame: not yet
   EXPECT_TRUE(h.update(7, far_danger, 0.1));   // second: on
   EXPECT_TRUE(h.update(7, safe, 0.2));         // one safe frame: held
@@ -181,6 +181,30 @@ TEST(DangerHysteresis, HoldsThroughOneSafeFrameAndDropsAfterOffFrames) {
   EXPECT_FALSE(h.update(9, safe, 5.0));        // ids 7 and 8 not seen for > 1 s: forgotten
   EXPECT_EQ(h.size(), 1u);
   EXPECT_FALSE(h.update(8, far_danger, 5.1));  // a forgotten id starts again
+}
+
+// The immediate case reads the mean prediction: what only the velocity's uncertainty brings into
+// the corridor within immediate_ttc_s (a young track's sigma of 0.5 m/s beside the path) waits for
+// a second frame; what steps in itself is on at once. Zebra standing: corridor |y| <= 1.0 m,
+// 0 <= x <= 1.5 m.
+TEST(DangerHysteresis, OnAtOnceOnlyWhenTheMeanPredictionEnters) {
+  const DangerParams p = zebra(DangerModel::kPredictive);
+  // Standing 0.2 m beside the corridor, sigma 0.5 m/s: the grown footprint reaches it at 0.4 s,
+  // the mean never.
+  const DangerAssessment uncertain = assessDanger(boxAt(1.0, 1.3, 0.1, 0.0, 0.0, 0.5), p);
+  EXPECT_TRUE(uncertain.dangerous);
+  EXPECT_NEAR(uncertain.time_to_corridor_s, 0.4, 1e-9);
+  EXPECT_EQ(uncertain.mean_time_to_corridor_s, -1.0);
+  // Stepping in at 1 m/s from 0.5 m beside it, the same sigma: the mean enters at 0.5 s.
+  const DangerAssessment stepping = assessDanger(boxAt(1.0, 1.6, 0.1, 0.0, -1.0, 0.5), p);
+  EXPECT_NEAR(stepping.mean_time_to_corridor_s, 0.5, 1e-9);
+  EXPECT_LE(stepping.time_to_corridor_s, stepping.mean_time_to_corridor_s);
+  DangerHysteresis h(p);
+  EXPECT_FALSE(h.update(1, uncertain, 0.0));  // the uncertainty alone: not yet
+  EXPECT_TRUE(h.update(1, uncertain, 0.1));   // confirmed by a second frame
+  EXPECT_TRUE(h.update(2, stepping, 0.1));    // at once
+  // The paper's rule fills neither time.
+  EXPECT_EQ(assessDanger(boxAt(1.0, 1.6, 0.1, 0.0, -1.0), zebra(DangerModel::kPaper)).mean_time_to_corridor_s, -1.0);
 }
 
 // Issue 19: the vehicle predicted along its own twist. A road car (corridor |y| <= 1.2 + 0.3 m,

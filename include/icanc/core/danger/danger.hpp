@@ -73,7 +73,8 @@ struct DangerParams {
   int motion_min_hits = 0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
-  // at once when time-to-corridor <= immediate_ttc_s; off after off_frames consecutive safe ones.
+  // at once when the mean prediction's time-to-corridor (DangerAssessment::mean_time_to_corridor_s)
+  // is at most immediate_ttc_s; off after off_frames consecutive safe ones.
   int on_frames = 2;
   int off_frames = 2;
   double immediate_ttc_s = 1.0;
@@ -150,6 +151,10 @@ struct DangerAssessment {
   // kPredictive: seconds until the predicted (inflated) footprint first overlaps the corridor,
   // 0 when it already does, -1 when not within the reaction time. kPaper: always -1.
   double time_to_corridor_s = -1.0;
+  // kPredictive: the same for the mean prediction, without the velocity-uncertainty growth
+  // (velocity_std_k 0; the footprint margin kept): when only the uncertainty reaches the corridor,
+  // -1 or later than time_to_corridor_s. The hysteresis's immediate case reads this one.
+  double mean_time_to_corridor_s = -1.0;
 };
 
 // Dispatches on params.model. kPaper (Listing 1): dangerous when distance <= speed *
