@@ -205,7 +205,7 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
       a.mean_time_to_corridor_s = predictedTimeToCorridor(object, mean);
     }
     // A young track's prediction is not evidence yet: only what is in the corridor or about to
-    // enter it (the hysteresis's immediate case) counts.
+    // enter it, within immediate_ttc_s, counts.
     if (isYoungTrack(object, params) && a.time_to_corridor_s > params.immediate_ttc_s)
       a.time_to_corridor_s = a.mean_time_to_corridor_s = -1.0;
     a.dangerous = a.time_to_corridor_s >= 0.0;
