@@ -53,6 +53,7 @@ std::vector<TruthObject> toTruth(const GroundTruthArray& gt) {
     t.num_points = o.num_points;
     t.dangerous = o.dangerous;
     t.time_to_corridor = o.time_to_corridor;
+    t.horizon_cut = o.horizon_cut;
     out.push_back(t);
   }
   return out;

@@ -12,7 +12,9 @@
 //                  ends, 0 for a track seen once), returns inside the box (kitti::contains) and
 //                  the danger label from the labelled positions of the same track id
 //                  (docs/design.md, "Ground truth for dangerous"; no interpolation between the
-//                  0.1 s frames, no extrapolation past a track's last label).
+//                  0.1 s frames, no extrapolation past a track's last label). In the
+//                  sequence's last horizon_s, an object that does not enter the corridor
+//                  before the labels end is horizon_cut: its danger is unknown, not scored.
 // KITTI labels exist only in the front camera's field of view (about 90 degrees ahead): objects
 // beside or behind the car are in the clouds but not in the ground truth, and a track whose
 // object leaves that field of view is labelled only from the frames it has.
@@ -131,9 +133,15 @@ int main(int argc, char** argv) {
     const std::vector<icanc::kitti::VeloBox> velo = icanc::kitti::toVelodyne(
         icanc::kitti::readLabels(dir + "/label_02/" + sequence + ".txt"), calib);
 
-    // Every label of the sequence (also past --frames: the last frames' labels look ahead).
+    // Every label of the sequence (also past --frames: the last frames' labels look ahead). The
+    // sequence's last frame ends what the labels know: a label not dangerous within less than the
+    // horizon before it is horizon_cut (not scored).
+    int last_frame = 0;
+    while (std::ifstream(frameName(dir, last_frame + 1)).good()) ++last_frame;
+    for (const icanc::kitti::VeloBox& v : velo) last_frame = std::max(last_frame, v.frame);
     const std::vector<icanc::TruthBox> boxes = icanc::truthBoxesFromKitti(velo, kFramePeriodS);
-    const std::vector<icanc::TruthLabel> labels = icanc::labelTruths(boxes, corridor);
+    const std::vector<icanc::TruthLabel> labels =
+        icanc::labelTruths(boxes, corridor, kFramePeriodS * last_frame);
     std::map<int, std::vector<std::size_t>> by_frame;
     for (std::size_t i = 0; i < velo.size(); ++i) by_frame[velo[i].frame].push_back(i);
 
@@ -153,7 +161,8 @@ int main(int argc, char** argv) {
     const std::vector<Eigen::Isometry3d> driven = drivenPoses(dir, max_frames, profile.lidar_odometry);
     icanc::Cloud scan;
     int frames = 0;
-    std::size_t points = 0, objects = 0, dangerous = 0, in_corridor = 0, dangerous_frames = 0;
+    std::size_t points = 0, objects = 0, dangerous = 0, in_corridor = 0, dangerous_frames = 0,
+                cut = 0;
     std::map<std::uint32_t, std::pair<std::string, std::size_t>> dangerous_per_track;
     for (int f = 0; f < max_frames; ++f) {
       const std::string path = frameName(dir, f);
@@ -179,6 +188,7 @@ int main(int argc, char** argv) {
         num_points.push_back(n);
         dangerous += labels[i].dangerous;
         in_corridor += labels[i].in_corridor;
+        cut += labels[i].horizon_cut;
         any = any || labels[i].dangerous;
         if (labels[i].dangerous) {
           auto& entry = dangerous_per_track[boxes[i].id];
@@ -198,9 +208,10 @@ int main(int argc, char** argv) {
     bag.close();
     if (frames == 0) throw std::runtime_error(dir + ": no velodyne/000000.bin[.xz]");
     std::printf("wrote %s: %d frames, %zu points per frame on %s; ground truth (profile %s): %zu "
-                "labelled object-frames, %zu dangerous (%zu in the corridor) in %zu frames\n",
+                "labelled object-frames, %zu dangerous (%zu in the corridor) in %zu frames; %zu "
+                "of unknown danger (the labels end within their horizon)\n",
                 bag_path.c_str(), frames, points / frames, topic.c_str(), profile_path.c_str(),
-                objects, dangerous, in_corridor, dangerous_frames);
+                objects, dangerous, in_corridor, dangerous_frames, cut);
     for (const auto& entry : dangerous_per_track)
       std::printf("  track %u %s: dangerous in %zu frames\n", entry.first,
                   entry.second.first.c_str(), entry.second.second);

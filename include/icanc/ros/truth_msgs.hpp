@@ -35,6 +35,7 @@ inline GroundTruthObject toGroundTruthObject(const TruthBox& box, const TruthLab
   o.in_corridor = label.in_corridor;
   o.dangerous = label.dangerous;
   o.time_to_corridor = static_cast<float>(label.time_to_corridor);
+  o.horizon_cut = label.horizon_cut;
   return o;
 }
 

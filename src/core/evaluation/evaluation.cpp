@@ -213,7 +213,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     for (const TruthObject& o : truth) {
       const DangerAssessment a = assessDanger(perfectTrack(o, f), perfect_danger);
       const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
-      count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
+      if (!o.horizon_cut) count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
       any_perfect_flag |= flagged;
       if (flagged) perfect_flagged.insert(o.id);
     }
@@ -293,11 +293,13 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       const bool predicted = by_match || flagged_by[i] >= 0;
       if (predicted) {
         flagged_ids.insert(o.id);
-        causes.flag(o.dangerous ? LampCause::kTrueDanger
+        causes.flag(o.horizon_cut ? LampCause::kUnscored
+                    : o.dangerous ? LampCause::kTrueDanger
                     : perfect_flagged.count(o.id) ? LampCause::kModel
                                                   : LampCause::kLabelledPerception);
       }
-      const Outcome outcome = outcomeOf(o.dangerous, predicted);
+      // Danger unknown (the labels end within the horizon): not scored, as KITTI's DontCare.
+      const Outcome outcome = o.horizon_cut ? Outcome::kDontCare : outcomeOf(o.dangerous, predicted);
       count(r.danger, outcome);
       if (rows) {
         ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};

@@ -27,7 +27,8 @@ Trajectories buildTrajectories(const std::vector<TruthBox>& samples) {
 }
 
 std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes,
-                                    const Trajectories& trajectories, const CorridorParams& corridor) {
+                                    const Trajectories& trajectories, const CorridorParams& corridor,
+                                    double known_until_t) {
   std::vector<TruthLabel> labels(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const TruthBox& box = boxes[i];
@@ -43,12 +44,15 @@ std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes,
                                    : timeToCorridor(it->second, box.t, corridor);
     }
     label.dangerous = label.time_to_corridor >= 0.0;
+    // (a microsecond's tolerance: frame times are sums of periods)
+    label.horizon_cut = !label.dangerous && box.t + corridor.horizon_s > known_until_t + 1e-6;
   }
   return labels;
 }
 
-std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes, const CorridorParams& corridor) {
-  return labelTruths(boxes, buildTrajectories(boxes), corridor);
+std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes, const CorridorParams& corridor,
+                                    double known_until_t) {
+  return labelTruths(boxes, buildTrajectories(boxes), corridor, known_until_t);
 }
 
 void differenceVelocities(std::vector<TruthBox>& boxes, double frame_dt_s) {

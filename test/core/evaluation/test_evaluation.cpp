@@ -105,6 +105,32 @@ TEST(Evaluate, ADetectionOfAnUnscoredObjectIsNotScored) {
   EXPECT_NE(toCsv(rows).find(",DC,1,"), std::string::npos);
 }
 
+// A true object whose labels end within the horizon (a recording's last frames) and that is not
+// dangerous as far as they go: its danger is unknown, so a flag on it is no false alarm and no
+// flag no true negative; its detection is still scored, its flag still lights the lamp (unscored).
+TEST(Evaluate, ADangerCutByTheRecordingsEndIsNotScored) {
+  TruthObject cut = truth(1, 8.0, -1.5, false), known = truth(2, 12.0, 3.0, false);
+  cut.horizon_cut = true;
+  std::vector<EvalFrame> frames;
+  frames.push_back(frame(0.0, true, {cut, known}, {det(10, 8.1, -1.5, true), det(11, 12.0, 3.1, true)}));
+  frames.push_back(frame(0.1, true, {cut, known}, {det(10, 8.0, -1.5, false), det(11, 12.0, 3.0, false)}));
+  std::vector<ScoredRow> rows;
+  const EvalReport r = evaluate(frames, EvalParams(), &rows);
+  EXPECT_EQ(r.danger.fp, 1u);  // the known one's first frame only
+  EXPECT_EQ(r.danger.tn, 1u);  // the known one's second frame only
+  EXPECT_EQ(r.danger.tp + r.danger.fn, 0u);
+  EXPECT_EQ(r.detection.tp, 4u);  // both are detected in both frames, cut or not
+  EXPECT_EQ(r.perfect_tracks.tp + r.perfect_tracks.fp + r.perfect_tracks.fn + r.perfect_tracks.tn, 2u);
+  EXPECT_EQ(r.lamp_causes.causes[static_cast<std::size_t>(LampCause::kUnscored)].object_frames, 1u);
+  std::size_t dont_care = 0;
+  for (const ScoredRow& row : rows) {
+    if (row.truth.id != 1u) continue;
+    EXPECT_EQ(row.outcome, Outcome::kDontCare);
+    ++dont_care;
+  }
+  EXPECT_EQ(dont_care, 2u);
+}
+
 // Two clusters on one car (its rear face, and a roof scan line at a fixed range from the sensor):
 // the matching takes the one whose centre is nearer the true centre, the other is a fragment. The
 // car counts as flagged when either is dangerous, once; a fragment flagged on a safe object is that

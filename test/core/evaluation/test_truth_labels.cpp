@@ -112,6 +112,34 @@ TEST(TruthLabels, ParkedAlongsideIsNotDangerousButParkedInThePathIs) {
   EXPECT_NEAR(times.back(), 6.4, 1e-9);
 }
 
+TEST(TruthLabels, WhereTheRecordingEndsWithinTheHorizonASafeLabelIsUnknown) {
+  // A recording of 7 s: the approaching pedestrian (entry at 4.875 s, above) and one walking
+  // away. Known until the last frame (7.0 s), labels from 5.0 s on look past it.
+  std::vector<TruthBox> boxes = track(7, 15.0, 0.0, -2.0, 0.0, 7.0);
+  const std::vector<TruthBox> away = track(3, 5.5, 0.0, 1.5, 0.0, 7.0);
+  boxes.insert(boxes.end(), away.begin(), away.end());
+  const std::vector<TruthLabel> labels = labelTruths(boxes, corridor(), 7.0);
+  const std::vector<TruthLabel> unbounded = labelTruths(boxes, corridor());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    // The danger itself does not change; only a safe label of the last 2 s becomes unknown.
+    EXPECT_EQ(labels[i].dangerous, unbounded[i].dangerous) << i;
+    EXPECT_EQ(labels[i].time_to_corridor, unbounded[i].time_to_corridor) << i;
+    EXPECT_FALSE(unbounded[i].horizon_cut) << i;
+    const bool last_horizon = boxes[i].t > 5.0 + 1e-9;
+    EXPECT_EQ(labels[i].horizon_cut, last_horizon && !labels[i].dangerous)
+        << "id " << boxes[i].id << " t " << boxes[i].t;
+  }
+  // The one walking away is cut from 5.1 s on (its horizon reaches past 7.0 s), the approaching
+  // one never: it is dangerous from 2.9 s on, which the labels show.
+  std::size_t cut = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (!labels[i].horizon_cut) continue;
+    ++cut;
+    EXPECT_EQ(boxes[i].id, 3u);
+  }
+  EXPECT_EQ(cut, 20u);  // 5.1 .. 7.0 s
+}
+
 TEST(TruthLabels, ATrackWhoseLabelsStopIsJudgedOnlyFromTheFramesItHas) {
   // Approaches at 2 m/s from x = 10 but its labels stop at t = 1.5 s (centre x = 7, not yet in the
   // corridor, 0.875 s before it would enter): no extrapolation, so never dangerous.
@@ -255,6 +283,17 @@ TEST(TruthLabels, KittiSequence0000) {
   ASSERT_FALSE(frames.empty());
   EXPECT_EQ(*frames.begin(), 0);
   EXPECT_EQ(*frames.rbegin(), 30);
+  // The sequence ends at frame 153 (15.3 s): the labels of its last 2 s (the profile's horizon)
+  // are of unknown danger, 220 of the 711 (icanc_kitti2bag prints the count).
+  const std::vector<TruthLabel> ending = labelTruths(boxes, c, 15.3);
+  std::size_t cut = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    EXPECT_EQ(ending[i].dangerous, labels[i].dangerous);
+    if (!ending[i].horizon_cut) continue;
+    ++cut;
+    EXPECT_GT(boxes[i].t, 15.3 - c.horizon_s);
+  }
+  EXPECT_EQ(cut, 220u);
 }
 
 }  // namespace

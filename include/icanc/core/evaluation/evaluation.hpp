@@ -27,6 +27,8 @@ struct TruthObject {
   std::uint32_t num_points = 0;   // LiDAR returns inside the true box
   bool dangerous = false;         // ground truth (enters the corridor within the horizon)
   double time_to_corridor = -1.0; // [s], -1 when not within the horizon
+  bool horizon_cut = false;       // not dangerous, but the labels end within the horizon: its
+                                  // danger is not scored (detection is)
 };
 
 struct DetectedObject {

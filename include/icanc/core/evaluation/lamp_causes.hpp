@@ -19,10 +19,14 @@ enum class LampCause : std::uint8_t {
   kModel,               // a true object not dangerous, flagged, and flagged on its perfect track
                         // too: the danger model's own false alarm (FP)
   kLabelledPerception,  // a true object not dangerous, flagged only on the graph's track (FP)
-  kUnlabelledStanding,  // a detection of no true object, standing still over ground (FP)
+  kUnlabelledStanding,  // a detection of no true object, standing still over ground (FP): its
+                        // Obstacle velocity_over_ground below EvalParams::static_speed_mps. With
+                        // ego_motion source none that velocity is the relative one, so on a
+                        // moving vehicle what stands still counts as moving
   kUnlabelledMoving,    // ... moving over ground: a ghost velocity, or a road user not labelled (FP)
   kUnscored,            // a dangerous detection outside the scored range or view, or on a true
-                        // object too sparse to score (not in the confusion counts)
+                        // object too sparse to score or whose danger the labels cannot tell
+                        // (TruthObject::horizon_cut; not in the confusion counts)
   kCount
 };
 constexpr std::size_t kLampCauseCount = static_cast<std::size_t>(LampCause::kCount);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -33,6 +34,9 @@ struct TruthLabel {
   bool in_corridor = false;        // the footprint overlaps the corridor now
   bool dangerous = false;          // time_to_corridor >= 0
   double time_to_corridor = -1.0;  // [s] until it is first in the corridor within the horizon, else -1
+  // Not dangerous as far as the labels go, but they end before the horizon does (a recording's
+  // last frames): where it goes next is not known, so its danger is not scored.
+  bool horizon_cut = false;
 };
 
 // Each id's trajectory (footprints relative to the vehicle), sorted by time.
@@ -46,13 +50,18 @@ Trajectories buildTrajectories(const std::vector<TruthBox>& samples);
 // Labels every box from its id's trajectory: time_to_corridor = timeToCorridor(trajectory, box.t,
 // corridor), dangerous = time_to_corridor >= 0. A box that is in the corridor itself gets 0
 // whether or not its trajectory holds a sample at box.t; a box whose id has no trajectory is
-// judged from itself alone. labels[i] belongs to boxes[i].
+// judged from itself alone. known_until_t is the time of the last labelled frame (a recording's
+// end; the simulator's scripted motion has none): a box not dangerous whose horizon runs past it
+// is horizon_cut. labels[i] belongs to boxes[i].
 std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes,
-                                    const Trajectories& trajectories, const CorridorParams& corridor);
+                                    const Trajectories& trajectories, const CorridorParams& corridor,
+                                    double known_until_t = std::numeric_limits<double>::infinity());
 
 // Recorded data: the trajectories are the boxes themselves (a track whose labels stop is judged
-// only from the frames it has: no extrapolation, no interpolation).
-std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes, const CorridorParams& corridor);
+// only from the frames it has: no extrapolation, no interpolation; a track that leaves the
+// labelled view is judged not to come back). known_until_t: the recording's last frame.
+std::vector<TruthLabel> labelTruths(const std::vector<TruthBox>& boxes, const CorridorParams& corridor,
+                                    double known_until_t = std::numeric_limits<double>::infinity());
 
 // Sets each box's velocity from the positions of the same id in the neighbouring frames (frame
 // period frame_dt_s): central difference when both neighbours exist, one-sided when only one does,
