@@ -82,13 +82,6 @@ void printStages(const Series& classic, const Series& fast) {
                   : 0.0);
 }
 
-std::string frameName(const std::string& dir, int frame) {
-  char name[64];
-  std::snprintf(name, sizeof(name), "/velodyne/%06d.bin", frame);
-  const std::string bin = dir + name;
-  return std::ifstream(bin).good() ? bin : bin + ".xz";
-}
-
 void printScore(const char* name, const icanc::kitti::DetectionScore& s) {
   std::printf("%-8s recall %d/%d (%.1f %%):", name, s.foundTotal(), s.labelledTotal(),
               100.0 * s.recall());
@@ -124,7 +117,7 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
   Cloud cloud, decoded;
   int frames = 0;
   for (int f = 0; f < max_frames; ++f) {
-    const std::string path = frameName(dir, f);
+    const std::string path = icanc::kitti::velodynePath(dir, f);
     if (!std::ifstream(path).good()) break;
     icanc::kitti::readVelodyne(path, cloud);
     StageTimes t;

@@ -61,13 +61,6 @@ constexpr double kFramePeriodS = 0.1;
 constexpr double kStartTimeS = 1000.0;
 const char* const kFrame = "velodyne";
 
-std::string frameName(const std::string& dir, int frame) {
-  char name[64];
-  std::snprintf(name, sizeof(name), "/velodyne/%06d.bin", frame);
-  const std::string bin = dir + name;
-  return std::ifstream(bin).good() ? bin : bin + ".xz";
-}
-
 int usage(bool asked = false) {
   return icanc::tools::printUsage(
       "usage: icanc_kitti2bag SEQUENCE_DIR OUT.bag [--profile config/kitti_hdl64e.yaml]\n"
@@ -84,7 +77,7 @@ std::vector<Eigen::Isometry3d> drivenPoses(const std::string& dir, int max_frame
   std::vector<Eigen::Isometry3d> poses;
   icanc::Cloud scan;
   for (int f = 0; f < max_frames; ++f) {
-    const std::string path = frameName(dir, f);
+    const std::string path = icanc::kitti::velodynePath(dir, f);
     if (!std::ifstream(path).good()) break;
     icanc::kitti::readVelodyne(path, scan);
     poses.push_back(odometry.registerFrom(kFramePeriodS * f, [&](auto&& sink) {
@@ -137,7 +130,7 @@ int main(int argc, char** argv) {
     // sequence's last frame ends what the labels know: a label not dangerous within less than the
     // horizon before it is horizon_cut (not scored).
     int last_frame = 0;
-    while (std::ifstream(frameName(dir, last_frame + 1)).good()) ++last_frame;
+    while (std::ifstream(icanc::kitti::velodynePath(dir, last_frame + 1)).good()) ++last_frame;
     for (const icanc::kitti::VeloBox& v : velo) last_frame = std::max(last_frame, v.frame);
     const std::vector<icanc::TruthBox> boxes = icanc::truthBoxesFromKitti(velo, kFramePeriodS);
     const std::vector<icanc::TruthLabel> labels =
@@ -165,7 +158,7 @@ int main(int argc, char** argv) {
                 cut = 0;
     std::map<std::uint32_t, std::pair<std::string, std::size_t>> dangerous_per_track;
     for (int f = 0; f < max_frames; ++f) {
-      const std::string path = frameName(dir, f);
+      const std::string path = icanc::kitti::velodynePath(dir, f);
       if (!std::ifstream(path).good()) break;
       icanc::kitti::readVelodyne(path, scan);
       const ros::Time stamp = t0 + ros::Duration(kFramePeriodS * f);

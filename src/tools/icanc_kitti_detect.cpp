@@ -28,13 +28,6 @@ namespace {
 
 using icanc::percentile;
 
-std::string frameName(const std::string& dir, int frame) {
-  char name[64];
-  std::snprintf(name, sizeof(name), "/velodyne/%06d.bin", frame);
-  const std::string bin = dir + name;
-  return std::ifstream(bin).good() ? bin : bin + ".xz";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -89,7 +82,7 @@ int main(int argc, char** argv) {
     icanc::kitti::DetectionScore score;
     icanc::Cloud cloud;
     for (int f = 0; f < max_frames; ++f) {
-      const std::string path = frameName(dir, f);
+      const std::string path = icanc::kitti::velodynePath(dir, f);
       if (!std::ifstream(path).good()) break;
       icanc::kitti::readVelodyne(path, cloud);
       icanc::StageTimes t;

@@ -43,13 +43,6 @@ double threadCpuMs() {
   return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
 
-std::string frameName(const std::string& dir, int frame) {
-  char name[64];
-  std::snprintf(name, sizeof(name), "/velodyne/%06d.bin", frame);
-  const std::string bin = dir + name;
-  return std::ifstream(bin).good() ? bin : bin + ".xz";
-}
-
 using Track = std::map<int, Eigen::Vector3d>;  // frame -> centre in the velodyne frame
 
 // Tracks of parked objects, from the labels alone (see the file comment).
@@ -126,7 +119,7 @@ int main(int argc, char** argv) {
     icanc::Cloud cloud;
     double length = 0.0;
     for (int f = 0; f < max_frames; ++f) {
-      const std::string path = frameName(dir, f);
+      const std::string path = icanc::kitti::velodynePath(dir, f);
       if (!std::ifstream(path).good()) break;
       icanc::kitti::readVelodyne(path, cloud);
       const double t0 = icanc::odometryNowMs(), c0 = threadCpuMs();

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -132,6 +133,13 @@ Eigen::Matrix3d nearestRotation(const Eigen::Matrix3d& m) {
 }
 
 }  // namespace
+
+std::string velodynePath(const std::string& dir, int frame) {
+  char name[64];
+  std::snprintf(name, sizeof(name), "/velodyne/%06d.bin", frame);
+  const std::string bin = dir + name;
+  return std::ifstream(bin).good() ? bin : bin + ".xz";
+}
 
 void readVelodyne(const std::string& path, Cloud& out) {
   // Buffers reused across calls on the same thread (a sequence is read frame after frame).

@@ -101,6 +101,20 @@ void expectThree(const Cloud& c) {
   }
 }
 
+// A sequence's scans by frame number: the .bin, else the .bin.xz (also the name reported when
+// neither is there).
+TEST_F(KittiFiles, VelodynePathPrefersTheBinThenTheXz) {
+  fs::create_directories(fs::path(dir_) / "velodyne");
+  write("velodyne/000000.bin", encodeBin(kThree));
+  write("velodyne/000001.bin.xz", xzCompress(encodeBin(kThree)));
+  EXPECT_EQ(kitti::velodynePath(dir_, 0), dir_ + "/velodyne/000000.bin");
+  EXPECT_EQ(kitti::velodynePath(dir_, 1), dir_ + "/velodyne/000001.bin.xz");
+  EXPECT_EQ(kitti::velodynePath(dir_, 12), dir_ + "/velodyne/000012.bin.xz");
+  Cloud c;
+  kitti::readVelodyne(kitti::velodynePath(dir_, 1), c);
+  expectThree(c);
+}
+
 TEST_F(KittiFiles, BinReadBackExactlyKeepingTrailingZeroPoint) {
   Cloud c;
   readVelodyne(write("000000.bin", encodeBin(kThree)), c);

@@ -17,6 +17,10 @@ namespace kitti {
 // (missing, not a multiple of 16 bytes, corrupt xz stream).
 void readVelodyne(const std::string& path, Cloud& out);
 
+// The scan of `frame` in a sequence directory: DIR/velodyne/NNNNNN.bin, or .bin.xz when the .bin
+// is not there (the name to report when neither is).
+std::string velodynePath(const std::string& dir, int frame);
+
 struct Calib {
   Eigen::Matrix3d r0_rect = Eigen::Matrix3d::Identity();
   Eigen::Matrix<double, 3, 4> tr_velo_to_cam = Eigen::Matrix<double, 3, 4>::Zero();
