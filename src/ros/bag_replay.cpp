@@ -274,6 +274,13 @@ void readGraphParams(const std::string& ns, EvalParams& params) {
   readParams(danger, params.danger);
   const std::string why = danger.error().empty() ? validate(params.danger) : danger.error();
   if (!why.empty()) throw std::runtime_error(ns + "/danger_detector: " + why);
+  // The detector's region of interest (EvalReport::detection_roi), in its target frame, the truth's.
+  ParamReader detector(ros::NodeHandle(ns + "/obstacle_detector"));
+  ObstacleDetectorParams obstacle;
+  readParams(detector, obstacle);
+  if (!detector.error().empty()) throw std::runtime_error(ns + "/obstacle_detector: " + detector.error());
+  params.roi_min = obstacle.prep.roi_min.head<2>().cast<double>();
+  params.roi_max = obstacle.prep.roi_max.head<2>().cast<double>();
 }
 
 void readLampPlacement(const std::string& ns, SegmentLampParams& lamp) {

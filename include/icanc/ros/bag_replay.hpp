@@ -35,8 +35,9 @@ struct ReplayOptions {
 std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& options);
 
 // What the evaluation takes from the graph's parameters under `ns`: the light controller's timer
-// (EvalParams::lamp_tau_s, lamp_recheck_below_s) and the danger detector's parameters
-// (EvalParams::danger). Throws std::runtime_error when the danger parameters are invalid.
+// (EvalParams::lamp_tau_s, lamp_recheck_below_s), the danger detector's parameters
+// (EvalParams::danger) and the obstacle detector's region of interest (EvalParams::roi_min,
+// roi_max). Throws std::runtime_error when those parameters are invalid.
 void readGraphParams(const std::string& ns, EvalParams& params);
 
 // Where the graph's profile puts the segmented lamp (`ns`/light_controller: lamp_position_m,

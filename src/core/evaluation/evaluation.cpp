@@ -16,6 +16,10 @@ namespace {
 
 double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
+bool inRoi(const Eigen::Vector2d& c, const EvalParams& p) {
+  return (c.array() >= p.roi_min.array()).all() && (c.array() <= p.roi_max.array()).all();
+}
+
 bool inScope(const Eigen::Vector2d& c, const EvalParams& p) {
   if (c.norm() > p.max_range_m) return false;
   const double bearing = std::abs(std::atan2(c.y(), c.x())) * 180.0 / M_PI;
@@ -246,6 +250,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       const TruthObject& o = truth[i];
       const bool found = m[i] >= 0;
       // Detection and tracking.
+      if (inRoi(o.center, params)) ++(found ? r.detection_roi.tp : r.detection_roi.fn);
       if (found) {
         ++r.detection.tp;
         const DetectedObject& d = dets[m[i]];
@@ -326,6 +331,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         continue;
       }
       ++r.detection.fp;
+      if (inRoi(dets[j].center, params)) ++r.detection_roi.fp;
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;
@@ -392,6 +398,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
+      "  in the detector's region of interest: recall %.2f %%  precision %.2f %% (true objects %llu)\n"
       "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
       "  true box beyond the detected one (median): near face %.3f m, sides %.3f m (n %zu)\n"
       "  speed over ground of static objects' settled tracks: p50 %.2f  p90 %.2f m/s (n %zu)\n"
@@ -405,7 +412,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       100 * r.danger.precision(), 100 * r.danger.recall(), 100 * r.danger.accuracy(), 100 * r.danger.f1(),
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
-      r.velocity_samples, r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
+      r.velocity_samples, 100 * r.detection_roi.recall(), 100 * r.detection_roi.precision(),
+      static_cast<unsigned long long>(r.detection_roi.tp + r.detection_roi.fn), r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
       r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples,
       r.static_speed_p50_mps, r.static_speed_p90_mps, r.static_speed_samples, r.latency_p50_ms,
       r.latency_p90_ms, r.latency_p99_ms, r.latency_max_ms,
@@ -433,6 +441,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
   for (std::size_t i = 0; i < r.lead_times_s.size(); ++i) j << (i ? ", " : "") << r.lead_times_s[i];
   j << "], ";
   conf("detection", r.detection);
+  j << ", ";
+  conf("detection_roi", r.detection_roi);
   j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
     << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
     << ", \"offset_step_rms_m\": " << r.offset_step_rms_m

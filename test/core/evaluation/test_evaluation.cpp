@@ -73,6 +73,35 @@ TEST(Evaluate, UnmatchedDangerousDetectionIsAFalseAlarmOnlyInScope) {
   EXPECT_EQ(r.detection.fp, 2u);
 }
 
+// Detection in the detector's region of interest: the true objects whose centre lies in it, and the
+// unmatched detections there. The scored range still applies; the whole figure is unchanged.
+TEST(Evaluate, DetectionInTheRoiCountsWhatTheDetectorLooksAt) {
+  EvalParams p;
+  p.roi_min = Eigen::Vector2d(-10.0, -20.0);
+  p.roi_max = Eigen::Vector2d(60.0, 20.0);
+  std::vector<EvalFrame> frames{frame(0.0, false,
+      {truth(1, 5, 0, false), truth(2, -15, 0, false), truth(3, 10, 25, false),
+       truth(4, -9.5, 3, false), truth(5, 50, 0, false), truth(6, 20, -5, false)},
+      {det(11, 5.2, 0, false), det(14, -9.6, 3, false), det(21, -15, -2.5, false),
+       det(22, 30, 0, false), det(23, -20, 10, false)})};
+  const EvalReport r = evaluate(frames, p);
+  // 40 m all around: 1, 2, 3, 4, 6 scored (5 beyond 40 m), 1 and 4 found.
+  EXPECT_EQ(r.detection.tp, 2u);
+  EXPECT_EQ(r.detection.fn, 3u);
+  EXPECT_EQ(r.detection.fp, 3u);
+  // In the ROI: 1, 4 and 6 (2 is behind it, 3 beside it); the unmatched detection 22 only.
+  EXPECT_EQ(r.detection_roi.tp, 2u);
+  EXPECT_EQ(r.detection_roi.fn, 1u);
+  EXPECT_EQ(r.detection_roi.fp, 1u);
+  EXPECT_DOUBLE_EQ(r.detection_roi.recall(), 2.0 / 3.0);
+  // Without a ROI (the default) the two are the same.
+  const EvalReport all = evaluate(frames, EvalParams());
+  EXPECT_EQ(all.detection_roi.tp, all.detection.tp);
+  EXPECT_EQ(all.detection_roi.fn, all.detection.fn);
+  EXPECT_EQ(all.detection_roi.fp, all.detection.fp);
+  EXPECT_NE(toJson(r, "x").find("\"detection_roi\": {\"tp\": 2, \"fp\": 1, \"fn\": 1"), std::string::npos);
+}
+
 // A detection on a true object that is not scored (too few returns; just beyond the range) is not
 // scored either: no false alarm, no detection false positive. One beside it still is.
 TEST(Evaluate, ADetectionOfAnUnscoredObjectIsNotScored) {

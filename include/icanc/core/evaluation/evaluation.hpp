@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,11 @@ struct EvalParams {
   std::uint32_t min_points = 10;  // true objects with fewer returns are not expected to be seen
   double max_range_m = 40.0;      // true objects / detections farther away are not scored
   double fov_half_angle_deg = 180.0;  // scored sector around +x (KITTI labels: 45)
+  // The detector's region of interest (obstacle_detector/prep/roi_min, roi_max: x, y in the
+  // vehicle frame, where truth and detections are), for EvalReport::detection_roi. Unbounded by
+  // default; the scored range and view above still apply.
+  Eigen::Vector2d roi_min = Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity());
+  Eigen::Vector2d roi_max = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
   double static_speed_mps = 0.5;      // true objects slower over ground than this stand still
   // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
@@ -109,6 +115,11 @@ struct EvalReport {
   std::size_t episodes = 0, caught = 0;
   std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
   Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
+  // The same, of the true objects and unmatched detections whose centre lies in the detector's
+  // region of interest (EvalParams::roi_min, roi_max): what the detector is set to look at. A
+  // profile's region of interest leaves out the road behind and beside the vehicle that the scored
+  // range (max_range_m all around in the simulated scenarios) takes in.
+  Confusion detection_roi;
   std::size_t id_switches = 0;
   double velocity_rmse = 0.0;       // planar, over matched pairs with known truth velocity
   std::size_t velocity_samples = 0;
