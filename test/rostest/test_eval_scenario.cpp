@@ -76,6 +76,7 @@ TEST(EvalScenario, MetricsWithinThresholds) {
   const Check mins[] = {
       {"min_danger_recall", r.danger.recall()},       {"min_danger_precision", r.danger.precision()},
       {"min_danger_accuracy", r.danger.accuracy()},   {"min_detection_recall", r.detection.recall()},
+      {"min_detection_recall_roi", r.detection_roi.recall()},  // in the detector's region of interest
       {"min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
       {"min_lead_time_s", lead_min},
       {"min_perfect_precision", r.perfect_tracks.precision()},
