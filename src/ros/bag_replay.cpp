@@ -279,8 +279,8 @@ void readGraphParams(const std::string& ns, EvalParams& params) {
   ObstacleDetectorParams obstacle;
   readParams(detector, obstacle);
   if (!detector.error().empty()) throw std::runtime_error(ns + "/obstacle_detector: " + detector.error());
-  params.roi_min = obstacle.prep.roi_min.head<2>().cast<double>();
-  params.roi_max = obstacle.prep.roi_max.head<2>().cast<double>();
+  params.roi = Eigen::AlignedBox2d(obstacle.prep.roi_min.head<2>().cast<double>(),
+                                   obstacle.prep.roi_max.head<2>().cast<double>());
 }
 
 void readLampPlacement(const std::string& ns, SegmentLampParams& lamp) {

@@ -36,8 +36,8 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& optio
 
 // What the evaluation takes from the graph's parameters under `ns`: the light controller's timer
 // (EvalParams::lamp_tau_s, lamp_recheck_below_s), the danger detector's parameters
-// (EvalParams::danger) and the obstacle detector's region of interest (EvalParams::roi_min,
-// roi_max). Throws std::runtime_error when those parameters are invalid.
+// (EvalParams::danger) and the obstacle detector's region of interest (EvalParams::roi).
+// Throws std::runtime_error when those parameters are invalid.
 void readGraphParams(const std::string& ns, EvalParams& params);
 
 // Where the graph's profile puts the segmented lamp (`ns`/light_controller: lamp_position_m,

@@ -16,10 +16,6 @@ namespace {
 
 double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
-bool inRoi(const Eigen::Vector2d& c, const EvalParams& p) {
-  return (c.array() >= p.roi_min.array()).all() && (c.array() <= p.roi_max.array()).all();
-}
-
 bool inScope(const Eigen::Vector2d& c, const EvalParams& p) {
   if (c.norm() > p.max_range_m) return false;
   const double bearing = std::abs(std::atan2(c.y(), c.x())) * 180.0 / M_PI;
@@ -250,7 +246,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       const TruthObject& o = truth[i];
       const bool found = m[i] >= 0;
       // Detection and tracking.
-      if (inRoi(o.center, params)) ++(found ? r.detection_roi.tp : r.detection_roi.fn);
+      if (params.roi.contains(o.center)) ++(found ? r.detection_roi.tp : r.detection_roi.fn);
       if (found) {
         ++r.detection.tp;
         const DetectedObject& d = dets[m[i]];
@@ -331,7 +327,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
         continue;
       }
       ++r.detection.fp;
-      if (inRoi(dets[j].center, params)) ++r.detection_roi.fp;
+      if (params.roi.contains(dets[j].center)) ++r.detection_roi.fp;
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;

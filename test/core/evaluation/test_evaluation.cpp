@@ -77,8 +77,7 @@ TEST(Evaluate, UnmatchedDangerousDetectionIsAFalseAlarmOnlyInScope) {
 // unmatched detections there. The scored range still applies; the whole figure is unchanged.
 TEST(Evaluate, DetectionInTheRoiCountsWhatTheDetectorLooksAt) {
   EvalParams p;
-  p.roi_min = Eigen::Vector2d(-10.0, -20.0);
-  p.roi_max = Eigen::Vector2d(60.0, 20.0);
+  p.roi = Eigen::AlignedBox2d(Eigen::Vector2d(-10.0, -20.0), Eigen::Vector2d(60.0, 20.0));
   std::vector<EvalFrame> frames{frame(0.0, false,
       {truth(1, 5, 0, false), truth(2, -15, 0, false), truth(3, 10, 25, false),
        truth(4, -9.5, 3, false), truth(5, 50, 0, false), truth(6, 20, -5, false)},

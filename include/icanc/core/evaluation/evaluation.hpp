@@ -79,8 +79,8 @@ struct EvalParams {
   // The detector's region of interest (obstacle_detector/prep/roi_min, roi_max: x, y in the
   // vehicle frame, where truth and detections are), for EvalReport::detection_roi. Unbounded by
   // default; the scored range and view above still apply.
-  Eigen::Vector2d roi_min = Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity());
-  Eigen::Vector2d roi_max = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::AlignedBox2d roi{Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity()),
+                          Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity())};
   std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
   double static_speed_mps = 0.5;      // true objects slower over ground than this stand still
   // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
@@ -116,7 +116,7 @@ struct EvalReport {
   std::vector<double> lead_times_s;          // per caught episode: corridor entry - lamp on
   Confusion detection;              // tp = matched true objects, fn = missed, fp = unmatched dets
   // The same, of the true objects and unmatched detections whose centre lies in the detector's
-  // region of interest (EvalParams::roi_min, roi_max): what the detector is set to look at. A
+  // region of interest (EvalParams::roi): what the detector is set to look at. A
   // profile's region of interest leaves out the road behind and beside the vehicle that the scored
   // range (max_range_m all around in the simulated scenarios) takes in.
   Confusion detection_roi;
