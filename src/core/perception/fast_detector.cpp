@@ -194,6 +194,7 @@ FastDetector::Kept* FastDetector::growPoints(std::size_t used) {
 
 void FastDetector::beginFrame() {
   kept_ = 0;
+  ++steps_age_;
 }
 
 void FastDetector::detect(const Cloud& cloud, std::vector<Box3D>& boxes, FastStageTimes* times) {
@@ -598,6 +599,7 @@ FastDetector::Ray FastDetector::rayOf(std::uint32_t i) const {
 }
 
 float FastDetector::beamStepTangent() {
+  if (!stepsDue()) return std::tan(params_.link_step_beams * range_row_deg_ * kDeg);
   // The component with the most obstacle points (a wall, a car: many beams over one surface).
   std::vector<std::int32_t>& points_of = pixel_parent_;  // scratch (the range split reuses it)
   points_of.assign(occupied_.size(), 0);
@@ -676,7 +678,7 @@ void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
   };
   // (its first 1500 rays at most: the estimate sorts them)
   const std::size_t first = static_cast<std::size_t>(ray_begin_[widest]);
-  if (!estimateRangeSteps(first, std::min(endOf(widest), first + 1500))) return;
+  if (stepsDue() && !estimateRangeSteps(first, std::min(endOf(widest), first + 1500))) return;
   for (std::size_t i = 0; i < nc; ++i)
     if (ray_begin_[i] >= 0) splitCluster(i, static_cast<std::size_t>(ray_begin_[i]), endOf(i), boxes);
 }
@@ -701,7 +703,7 @@ bool FastDetector::estimateRangeSteps(std::size_t begin, std::size_t end) {
     steps_.push_back({std::round(rays_[j].el / (0.02f * kDeg)), rays_[j].az});
   // Too few returns side by side to measure (a frame of small clusters only): the last frame's
   // steps, if any.
-  const bool known = range_col_deg_ > 0.0f && range_row_deg_ > 0.0f;
+  const bool known = stepsKnown();
   const float col = sortedGaps(0.01f * kDeg, 3.0f * kDeg);
   if (!(col > 0.0f)) return known;
   steps_.clear();
@@ -711,6 +713,7 @@ bool FastDetector::estimateRangeSteps(std::size_t begin, std::size_t end) {
   if (!(row > 0.0f)) return known;
   range_col_deg_ = col / kDeg;
   range_row_deg_ = row / kDeg;
+  steps_age_ = 0;
   return true;
 }
 
@@ -794,7 +797,7 @@ void FastDetector::splitCluster(std::size_t cluster, std::size_t begin, std::siz
     }
   }
   // Pieces: every ray in its pixel's segment (Ray::pixel becomes its piece, a root).
-  pieces_.resize(static_cast<std::size_t>(n));
+  if (pieces_.size() < static_cast<std::size_t>(n)) pieces_.resize(static_cast<std::size_t>(n));
   Piece* const piece = pieces_.data();
   for (std::int32_t j = 0; j < n; ++j) {
     if (parent[j] != j) continue;

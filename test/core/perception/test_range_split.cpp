@@ -183,6 +183,33 @@ TEST(RangeSplit, AngularStepsAreMeasuredFromTheScan) {
   }
 }
 
+// Once measured, the steps are kept for FastDetector::kStepsEveryFrames frames, then measured
+// again: a detector fed a 32-beam unit's scans, then a 16-beam unit's, keeps the first unit's
+// steps for the first frames of the second and has the second's within that many frames.
+TEST(RangeSplit, AngularStepsAreMeasuredAgainEveryFewFrames) {
+  sim::Scene scene;
+  scene.objects = {object("wall", sim::Shape::kBox, {20.0f, 0.3f, 2.5f}, {15.0f, -6.0f, 0.0f})};
+  const Cloud hdl32 = render(scene, sim::LidarModel::byName("hdl32e"), 2.0f);
+  const Cloud vlp16 = render(scene, sim::LidarModel::byName("vlp16"), 2.0f);
+  FastDetector detector(carlaRoi(), withSplit(true));
+  detector.setSensorOrigin({0.0f, 0.0f, 2.0f});
+  std::vector<Box3D> boxes;
+  for (int i = 0; i < 3; ++i) detector.detect(hdl32, boxes);
+  ASSERT_NEAR(detector.rangeRowDeg(), 1.33f, 0.02f);
+  int frames = 0;
+  detector.detect(vlp16, boxes);
+  ++frames;
+  EXPECT_NEAR(detector.rangeRowDeg(), 1.33f, 0.02f) << "measured again on the next frame";
+  while (std::abs(detector.rangeRowDeg() - 2.0f) > 0.02f && frames < 2 * FastDetector::kStepsEveryFrames) {
+    detector.detect(vlp16, boxes);
+    ++frames;
+  }
+  EXPECT_NEAR(detector.rangeRowDeg(), 2.0f, 0.02f);
+  EXPECT_NEAR(detector.rangeColumnDeg(), 0.2f, 0.01f);
+  EXPECT_LE(frames, FastDetector::kStepsEveryFrames);
+  EXPECT_GE(frames, FastDetector::kStepsEveryFrames - 3);
+}
+
 // Off (angle 0) nothing is recorded or split; the keys are checked; ObstacleDetector hands its
 // sensor origin on.
 TEST(RangeSplit, OffByDefaultValidatedAndWired) {
