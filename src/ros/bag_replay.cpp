@@ -278,7 +278,8 @@ void readGraphParams(const std::string& ns, EvalParams& params) {
   ParamReader detector(ros::NodeHandle(ns + "/obstacle_detector"));
   ObstacleDetectorParams obstacle;
   readParams(detector, obstacle);
-  if (!detector.error().empty()) throw std::runtime_error(ns + "/obstacle_detector: " + detector.error());
+  const std::string bad = detector.error().empty() ? validate(obstacle.prep) : detector.error();
+  if (!bad.empty()) throw std::runtime_error(ns + "/obstacle_detector: " + bad);
   params.roi = Eigen::AlignedBox2d(obstacle.prep.roi_min.head<2>().cast<double>(),
                                    obstacle.prep.roi_max.head<2>().cast<double>());
 }
@@ -287,7 +288,8 @@ void readLampPlacement(const std::string& ns, SegmentLampParams& lamp) {
   ParamReader reader(ros::NodeHandle(ns + "/light_controller"));
   SegmentLampParams profile;
   readParams(reader, profile);
-  if (!reader.error().empty()) throw std::runtime_error(ns + "/light_controller: " + reader.error());
+  const std::string why = reader.error().empty() ? validate(profile) : reader.error();
+  if (!why.empty()) throw std::runtime_error(ns + "/light_controller: " + why);
   lamp.lamp_position_m = profile.lamp_position_m;
   lamp.segment_margin_deg = profile.segment_margin_deg;
   lamp.low_beam_below_m = profile.low_beam_below_m;

@@ -9,6 +9,7 @@
 #include <std_msgs/Bool.h>
 
 #include "graph_fixture.hpp"
+#include "icanc/ros/bag_replay.hpp"
 
 namespace icanc {
 namespace test {
@@ -69,6 +70,34 @@ TEST(ParamsAtLoad, WrongTypesAreRefusedAndTheLampFailsSafe) {
   ASSERT_TRUE(ros::master::getTopics(topics));
   for (const auto& t : topics)
     EXPECT_NE(t.name, "/icanc/obstacles_danger") << "danger_detector started with half_width_m 'wide'";
+}
+
+// The evaluator (icanc_eval, the eval rostests) reads the graph's parameters as its nodelets do:
+// what they would refuse stops it with the key's message, rather than a region of interest
+// with its corners swapped scoring detection over nothing.
+TEST(ParamsAtLoad, TheEvaluatorRefusesWhatTheGraphRefuses) {
+  ros::NodeHandle nh;
+  const auto refused = [](const std::string& ns) {
+    EvalParams params;
+    SegmentLampParams lamp;
+    try {
+      readGraphParams(ns, params);
+      readLampPlacement(ns, lamp);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refused("/eval_defaults"), "");  // nothing set: every default is valid
+  nh.setParam("/eval_roi/obstacle_detector/prep/roi_min", std::vector<double>{60.0, -20.0, -2.0});
+  nh.setParam("/eval_roi/obstacle_detector/prep/roi_max", std::vector<double>{-10.0, 20.0, 2.0});
+  EXPECT_NE(refused("/eval_roi").find("/eval_roi/obstacle_detector: prep.roi_min.x must be <"),
+            std::string::npos)
+      << refused("/eval_roi");
+  nh.setParam("/eval_lamp/light_controller/lamp_position_m", std::vector<double>{50.0, 0.0, 0.0});
+  EXPECT_NE(refused("/eval_lamp").find("/eval_lamp/light_controller: light.lamp_position_m"),
+            std::string::npos)
+      << refused("/eval_lamp");
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ void readGraphParams(const std::string& ns, EvalParams& params);
 
 // Where the graph's profile puts the segmented lamp (`ns`/light_controller: lamp_position_m,
 // segment_margin_deg, low_beam_below_m) into `lamp`, keeping its segments. Throws
-// std::runtime_error when a key is malformed.
+// std::runtime_error when a key is malformed or the profile's lamp is invalid.
 void readLampPlacement(const std::string& ns, SegmentLampParams& lamp);
 
 }  // namespace icanc
