@@ -120,6 +120,14 @@ class BagPaths {
   std::map<std::tuple<std::string, std::string, std::uint64_t>, Eigen::Isometry3d> poses_;  // parent, child, stamp
 };
 
+// What a nodelet of the graph would refuse at load, as an exception naming `section`: the
+// reader's first error (a malformed key), else `validation` (validate() of what was read).
+void throwIfRefused(const std::string& section, const ParamReader& reader,
+                    const std::string& validation) {
+  const std::string& why = reader.error().empty() ? validation : reader.error();
+  if (!why.empty()) throw std::runtime_error(section + ": " + why);
+}
+
 }  // namespace
 
 std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) {
@@ -272,14 +280,12 @@ void readGraphParams(const std::string& ns, EvalParams& params) {
   lamp.param("recheck_below_s", params.lamp_recheck_below_s, params.lamp_recheck_below_s);
   ParamReader danger(ros::NodeHandle(ns + "/danger_detector"));
   readParams(danger, params.danger);
-  const std::string why = danger.error().empty() ? validate(params.danger) : danger.error();
-  if (!why.empty()) throw std::runtime_error(ns + "/danger_detector: " + why);
+  throwIfRefused(ns + "/danger_detector", danger, validate(params.danger));
   // The detector's region of interest (EvalReport::detection_roi), in its target frame, the truth's.
   ParamReader detector(ros::NodeHandle(ns + "/obstacle_detector"));
   ObstacleDetectorParams obstacle;
   readParams(detector, obstacle);
-  const std::string bad = detector.error().empty() ? validate(obstacle.prep) : detector.error();
-  if (!bad.empty()) throw std::runtime_error(ns + "/obstacle_detector: " + bad);
+  throwIfRefused(ns + "/obstacle_detector", detector, validate(obstacle.prep));
   params.roi = Eigen::AlignedBox2d(obstacle.prep.roi_min.head<2>().cast<double>(),
                                    obstacle.prep.roi_max.head<2>().cast<double>());
 }
@@ -288,8 +294,7 @@ void readLampPlacement(const std::string& ns, SegmentLampParams& lamp) {
   ParamReader reader(ros::NodeHandle(ns + "/light_controller"));
   SegmentLampParams profile;
   readParams(reader, profile);
-  const std::string why = reader.error().empty() ? validate(profile) : reader.error();
-  if (!why.empty()) throw std::runtime_error(ns + "/light_controller: " + why);
+  throwIfRefused(ns + "/light_controller", reader, validate(profile));
   lamp.lamp_position_m = profile.lamp_position_m;
   lamp.segment_margin_deg = profile.segment_margin_deg;
   lamp.low_beam_below_m = profile.low_beam_below_m;

@@ -91,13 +91,13 @@ TEST(ParamsAtLoad, TheEvaluatorRefusesWhatTheGraphRefuses) {
   EXPECT_EQ(refused("/eval_defaults"), "");  // nothing set: every default is valid
   nh.setParam("/eval_roi/obstacle_detector/prep/roi_min", std::vector<double>{60.0, -20.0, -2.0});
   nh.setParam("/eval_roi/obstacle_detector/prep/roi_max", std::vector<double>{-10.0, 20.0, 2.0});
-  EXPECT_NE(refused("/eval_roi").find("/eval_roi/obstacle_detector: prep.roi_min.x must be <"),
-            std::string::npos)
-      << refused("/eval_roi");
+  const std::string roi = refused("/eval_roi");
+  EXPECT_NE(roi.find("/eval_roi/obstacle_detector: prep.roi_min.x must be <"), std::string::npos)
+      << roi;
   nh.setParam("/eval_lamp/light_controller/lamp_position_m", std::vector<double>{50.0, 0.0, 0.0});
-  EXPECT_NE(refused("/eval_lamp").find("/eval_lamp/light_controller: light.lamp_position_m"),
-            std::string::npos)
-      << refused("/eval_lamp");
+  const std::string lamp = refused("/eval_lamp");
+  EXPECT_NE(lamp.find("/eval_lamp/light_controller: light.lamp_position_m"), std::string::npos)
+      << lamp;
 }
 
 }  // namespace
