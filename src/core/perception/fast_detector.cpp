@@ -194,7 +194,7 @@ FastDetector::Kept* FastDetector::growPoints(std::size_t used) {
 
 void FastDetector::beginFrame() {
   kept_ = 0;
-  ++steps_age_;
+  if (steps_age_ < kStepsEveryFrames) ++steps_age_;  // saturates: only "due or not" is read
 }
 
 void FastDetector::detect(const Cloud& cloud, std::vector<Box3D>& boxes, FastStageTimes* times) {

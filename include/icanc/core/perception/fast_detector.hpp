@@ -279,7 +279,7 @@ class FastDetector {
   Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();
   float cos_split_ = 1.0f, cos_split_vertical_ = 1.0f;
   float range_col_deg_ = 0.0f, range_row_deg_ = 0.0f;
-  int steps_age_ = 0;  // frames since the steps were last measured
+  int steps_age_ = 0;  // frames since the steps were last measured, counted up to kStepsEveryFrames
   bool stepsKnown() const { return range_col_deg_ > 0.0f && range_row_deg_ > 0.0f; }
   bool stepsDue() const { return !stepsKnown() || steps_age_ >= kStepsEveryFrames; }
   std::vector<std::uint32_t> obstacle_index_;   // this frame's obstacle points (into points_)
