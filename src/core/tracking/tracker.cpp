@@ -76,47 +76,126 @@ struct AxesBounds {
   Eigen::Vector2f lo_at[2], hi_at[2];
 };
 
+// Calls f with each point of the box's planar outline: its hull, or without one the corners of its
+// axis-aligned bounds.
+template <class F>
+void forEachOutlinePoint(const Box3D& box, F&& f) {
+  if (box.hull.empty()) {
+    for (int corner = 0; corner < 4; ++corner)
+      f(Eigen::Vector2f(corner & 1 ? box.max.x() : box.min.x(),
+                        corner & 2 ? box.max.y() : box.min.y()));
+  } else {
+    for (const Eigen::Vector2f& p : box.hull) f(p);
+  }
+}
+
 AxesBounds boundsAlong(const Box3D& box, const Eigen::Matrix2f& axes) {
   AxesBounds b;
   b.lo.setConstant(std::numeric_limits<float>::infinity());
   b.hi = -b.lo;
-  const auto add = [&](const Eigen::Vector2f& p) {
+  forEachOutlinePoint(box, [&](const Eigen::Vector2f& p) {
     const Eigen::Vector2f q = axes * p;
     for (int a = 0; a < 2; ++a) {
       if (q[a] < b.lo[a]) b.lo[a] = q[a], b.lo_at[a] = p;
       if (q[a] > b.hi[a]) b.hi[a] = q[a], b.hi_at[a] = p;
     }
-  };
-  if (box.hull.empty()) {  // the axis-aligned box is the outline
-    for (int corner = 0; corner < 4; ++corner)
-      add(Eigen::Vector2f(corner & 1 ? box.max.x() : box.min.x(),
-                          corner & 2 ? box.max.y() : box.min.y()));
-  } else {
-    for (const Eigen::Vector2f& p : box.hull) add(p);
-  }
+  });
   return b;
 }
 
-// True when the outline point p, extreme along direction `dir` (vehicle frame), lies on an edge of
-// the region of interest that faces that way (outward normal within 60 deg of dir): the bound
-// there is where the view ends. Along the vehicle's axes: the edge of the same axis only.
-bool cutAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const TrackerView& view) {
-  constexpr float kFacingCos = 0.5f;
-  for (int k = 0; k < 2; ++k) {
-    if (-dir[k] > kFacingCos && p[k] <= view.region_min[k] + view.region_tolerance_m) return true;
-    if (dir[k] > kFacingCos && p[k] >= view.region_max[k] - view.region_tolerance_m) return true;
+float wrapAngle(float a) { return std::remainder(a, 2.0f * static_cast<float>(M_PI)); }
+
+// A detection nearer than the face's end by at least this hides what lies behind it [m]: two
+// pieces of one wall either side of a shadow are at the same range and do not hide each other.
+constexpr float kOcclusionDepthM = 0.5f;
+// A direction this close to a line (cos of 60 deg) runs along it.
+constexpr float kFacingCos = 0.5f;
+// A face whose points (those within kFaceDepthM of its bound) lie more than kEndSpreadM across
+// the line of sight from its end is a side seen along its length (a parked car's flank): the
+// view may end at its end, but not at the face itself [m].
+constexpr float kFaceDepthM = 0.15f;
+constexpr float kEndSpreadM = 0.2f;
+
+// Where the view of one box ends: the region of interest's edges, and (occlusion_gap_deg > 0)
+// the nearer detections beside it as seen from the sensor.
+struct ViewEnds {
+  const TrackerView& view;
+  const std::vector<BearingSpan>& spans;  // this frame's detections
+  const Box3D& box;
+  BearingSpan own;                        // the box's own
+  int skip = -1;                          // the detection the box is (or is matched to)
+  float gap_rad = 0.0f;                   // 0: the region's edges only
+};
+
+// True when the outline point p, the box's end toward `dir` seen from the sensor (dir runs across
+// the line of sight, within 60 deg; no part of the box lies beyond p's bearing that way by more
+// than the gap; the face's points lie within kEndSpreadM of p across the line of sight: an end
+// seen end-on, not a flank), borders on a detection nearer by kOcclusionDepthM whose bearings
+// start within the gap beyond p's: the object may go on behind it.
+bool occludedAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const ViewEnds& ends) {
+  const Eigen::Vector2f d = p - ends.view.origin;
+  const float range = d.norm();
+  if (!ends.own.valid || !(range > 1e-3f)) return false;
+  const float across = dir.dot(Eigen::Vector2f(-d.y(), d.x())) / range;  // toward larger bearing
+  if (std::abs(across) < kFacingCos) return false;
+  const float side = across > 0.0f ? 1.0f : -1.0f;
+  const float bearing = std::atan2(d.y(), d.x());
+  const float gap = ends.gap_rad;
+  // The span's bearings relative to p's, turned so that `side` is positive: [lo, hi].
+  const auto relative = [&](const BearingSpan& s, float& lo, float& hi) {
+    const float shift = wrapAngle(s.bearing - bearing);
+    lo = side > 0.0f ? shift + s.lo : -(shift + s.hi);
+    hi = side > 0.0f ? shift + s.hi : -(shift + s.lo);
+  };
+  float lo, hi;
+  relative(ends.own, lo, hi);
+  if (hi > gap) return false;  // the box itself goes on beyond p that way: p is no end of it
+  const float bound = dir.dot(p);
+  bool flank = false;
+  forEachOutlinePoint(ends.box, [&](const Eigen::Vector2f& q) {
+    if (flank || dir.dot(q) < bound - kFaceDepthM) return;
+    const Eigen::Vector2f e = q - ends.view.origin;
+    const float back = -side * wrapAngle(std::atan2(e.y(), e.x()) - bearing);  // short of p's
+    flank = back * e.norm() > kEndSpreadM;
+  });
+  if (flank) return false;
+  for (std::size_t k = 0; k < ends.spans.size(); ++k) {
+    const BearingSpan& s = ends.spans[k];
+    if (static_cast<int>(k) == ends.skip || !s.valid) continue;
+    if (!(s.near_range <= range - kOcclusionDepthM)) continue;
+    relative(s, lo, hi);
+    if (lo <= gap && hi > 0.0f) return true;
   }
   return false;
 }
 
-// Which part of the box the filter follows along one axis.
-enum class Face : std::uint8_t { kMiddle, kMin, kMax };
+// Whether the outline point p, extreme along direction `dir` (vehicle frame), is where the view
+// ends, not the object: on an edge of the region of interest that faces that way (kRegion; outward
+// normal within 60 deg of dir; along the vehicle's axes: the edge of the same axis only), or beside
+// a nearer detection that hides the rest (kOccluded, occludedAt).
+enum class Cut : std::uint8_t { kNone, kRegion, kOccluded };
+Cut cutAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const ViewEnds& ends) {
+  const TrackerView& view = ends.view;
+  for (int k = 0; k < 2; ++k) {
+    if (-dir[k] > kFacingCos && p[k] <= view.region_min[k] + view.region_tolerance_m)
+      return Cut::kRegion;
+    if (dir[k] > kFacingCos && p[k] >= view.region_max[k] - view.region_tolerance_m)
+      return Cut::kRegion;
+  }
+  return ends.gap_rad > 0.0f && occludedAt(p, dir, ends) ? Cut::kOccluded : Cut::kNone;
+}
+
+// Which part of the box the filter follows along one axis. kSteadier: of the two faces, the one
+// that moved less against the prediction (a face hidden by a nearer object on one side: its
+// shadow's edge moves with that object, and the other side may be hidden by the object itself).
+enum class Face : std::uint8_t { kMiddle, kMin, kMax, kSteadier };
 
 float faceValue(const AxesBounds& b, int axis, Face face) {
   switch (face) {
     case Face::kMin: return b.lo[axis];
     case Face::kMax: return b.hi[axis];
-    case Face::kMiddle: break;
+    case Face::kMiddle:
+    case Face::kSteadier: break;
   }
   return 0.5f * (b.lo[axis] + b.hi[axis]);
 }
@@ -124,15 +203,17 @@ float faceValue(const AxesBounds& b, int axis, Face face) {
 // TrackAnchor::kNearestFace along one face axis of a box: the face toward the sensor (`sensor`:
 // its coordinates along the axes) where the sensor lies beyond the box, the middle where it lies
 // within the box's span. A face at the region of interest's edge is where the view ends, not the
-// object: the other face instead (the middle when both are cut).
+// object: the other face instead (the middle when both are cut). A face beside a nearer object
+// that hides the rest: the steadier of the two (kSteadier).
 Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
-                 const Eigen::Vector2f& sensor, const TrackerView& view) {
+                 const Eigen::Vector2f& sensor, const ViewEnds& ends) {
   const Eigen::Vector2f dir = axes.row(axis).transpose();
-  const bool cut_lo = cutAt(b.lo_at[axis], -dir, view);
-  const bool cut_hi = cutAt(b.hi_at[axis], dir, view);
-  if (cut_lo && cut_hi) return Face::kMiddle;
-  if (cut_lo) return Face::kMax;
-  if (cut_hi) return Face::kMin;
+  const Cut cut_lo = cutAt(b.lo_at[axis], -dir, ends);
+  const Cut cut_hi = cutAt(b.hi_at[axis], dir, ends);
+  if (cut_lo == Cut::kRegion && cut_hi == Cut::kRegion) return Face::kMiddle;
+  if (cut_lo == Cut::kRegion) return Face::kMax;
+  if (cut_hi == Cut::kRegion) return Face::kMin;
+  if (cut_lo == Cut::kOccluded || cut_hi == Cut::kOccluded) return Face::kSteadier;
   if (sensor[axis] < b.lo[axis]) return Face::kMin;
   if (sensor[axis] > b.hi[axis]) return Face::kMax;
   return Face::kMiddle;
@@ -146,15 +227,25 @@ Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
 // a parked car's do not move while the vehicle turns. An object whose footprint is shorter than
 // params.face_min_extent_m both ways in both boxes is seen whole (a pedestrian, a bin): its
 // middles, two faces' noise averaged. With params.face_jump_m, along an axis where the extent
-// jumps by more than that, the face that moved less against the prediction.
+// jumps by more than that, the face that moved less against the prediction; with
+// params.occlusion_gap_deg, the same along an axis where a face of the detection ends beside a
+// nearer object. `spans` are the
+// frame's detections seen from the sensor, `matched` the index of `detection` among them.
 Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
                                     const Eigen::Vector3d& predicted_reference,
                                     float face_axes_yaw, const TrackerParams& params,
-                                    const TrackerView& view) {
+                                    const TrackerView& view,
+                                    const std::vector<BearingSpan>& spans, int matched) {
   const float c = std::cos(face_axes_yaw), s = std::sin(face_axes_yaw);
   Eigen::Matrix2f axes;
   axes << c, s, -s, c;
   const AxesBounds det = boundsAlong(detection, axes), pred = boundsAlong(predicted, axes);
+  const float gap = params.occlusion_gap_deg * static_cast<float>(M_PI / 180.0);
+  const ViewEnds det_ends{view, spans, detection, spans[static_cast<std::size_t>(matched)],
+                          matched, gap};
+  const ViewEnds pred_ends{view, spans, predicted,
+                           gap > 0.0f ? bearingSpan(predicted, view.origin) : BearingSpan(),
+                           matched, gap};
   const Eigen::Vector2f extent = (det.hi - det.lo).cwiseMax(pred.hi - pred.lo);
   const bool faces = params.anchor == TrackAnchor::kNearestFace &&
                      !(extent.maxCoeff() < params.face_min_extent_m);
@@ -165,18 +256,22 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
     if (faces) {
       // Passing alongside, the detection spans the sensor and both its faces are seen; the
       // predicted box's far face was not: keep the face it was followed by.
-      face = nearestFace(det, axis, axes, sensor, view);
-      if (face == Face::kMiddle) face = nearestFace(pred, axis, axes, sensor, view);
+      face = nearestFace(det, axis, axes, sensor, det_ends);
+      if (face == Face::kMiddle) face = nearestFace(pred, axis, axes, sensor, pred_ends);
     }
-    moved[axis] = faceValue(det, axis, face) - faceValue(pred, axis, face);
+    const float lo = det.lo[axis] - pred.lo[axis], hi = det.hi[axis] - pred.hi[axis];
+    moved[axis] = face == Face::kSteadier ? (std::abs(lo) < std::abs(hi) ? lo : hi)
+                                          : faceValue(det, axis, face) - faceValue(pred, axis, face);
     if (params.anchor == TrackAnchor::kNearestFace && params.face_jump_m > 0.0f) {
       // The extent jumped (a merge or a split with what stands close): the face that stayed (the
       // smaller innovation against the prediction), when neither box has it at the region's edge.
-      const float lo = det.lo[axis] - pred.lo[axis], hi = det.hi[axis] - pred.hi[axis];
       const Eigen::Vector2f dir = axes.row(axis).transpose();
-      if (std::abs(hi - lo) > params.face_jump_m && !cutAt(det.lo_at[axis], -dir, view) &&
-          !cutAt(pred.lo_at[axis], -dir, view) && !cutAt(det.hi_at[axis], dir, view) &&
-          !cutAt(pred.hi_at[axis], dir, view))
+      const auto whole = [&dir, axis](const AxesBounds& b, const ViewEnds& ends) {
+        return cutAt(b.lo_at[axis], -dir, ends) != Cut::kRegion &&
+               cutAt(b.hi_at[axis], dir, ends) != Cut::kRegion;
+      };
+      if (std::abs(hi - lo) > params.face_jump_m && whole(det, det_ends) &&
+          whole(pred, pred_ends))
         moved[axis] = std::abs(lo) < std::abs(hi) ? lo : hi;
     }
   }
@@ -188,6 +283,32 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
 }
 
 }  // namespace
+
+BearingSpan bearingSpan(const Box3D& box, const Eigen::Vector2f& origin) {
+  BearingSpan span;
+  bool first = true, inside = false;
+  forEachOutlinePoint(box, [&](const Eigen::Vector2f& p) {
+    const Eigen::Vector2f d = p - origin;
+    const float range = d.norm();
+    if (!(range > 1e-3f)) inside = true;
+    const float bearing = std::atan2(d.y(), d.x());
+    if (first) {
+      span.bearing = bearing;
+      span.near_range = range;
+      first = false;
+      return;
+    }
+    const float rel = wrapAngle(bearing - span.bearing);
+    span.lo = std::min(span.lo, rel);
+    span.hi = std::max(span.hi, rel);
+    span.near_range = std::min(span.near_range, range);
+  });
+  // Seen from outside a convex outline, its bearings span less than half a turn; from inside
+  // (or from one of its points), they wrap.
+  span.valid = !first && !inside && span.hi - span.lo < static_cast<float>(M_PI) &&
+               std::isfinite(span.bearing) && std::isfinite(span.near_range);
+  return span;
+}
 
 const char* toString(TrackAnchor anchor) {
   switch (anchor) {
@@ -230,6 +351,8 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.face_min_extent_m must be >= 0 (got " << p.face_min_extent_m << ")";
   } else if (!(p.face_jump_m >= 0.0f) || !std::isfinite(p.face_jump_m)) {
     why << "tracker.face_jump_m must be >= 0 (got " << p.face_jump_m << ")";
+  } else if (!(p.occlusion_gap_deg >= 0.0f) || !(p.occlusion_gap_deg < 90.0f)) {
+    why << "tracker.occlusion_gap_deg must be >= 0 and < 90 (got " << p.occlusion_gap_deg << ")";
   } else if (!(p.robust_sigma >= 0.0) || !std::isfinite(p.robust_sigma)) {
     why << "tracker.robust_sigma must be >= 0 (got " << p.robust_sigma << ")";
   } else if (p.anchor != TrackAnchor::kCentre && p.anchor != TrackAnchor::kNearestFace) {
@@ -324,6 +447,14 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
   solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
                               assignment_workspace_, track_to_detection_);
 
+  // The detections seen from the sensor: which faces end where a nearer object hides the rest.
+  spans_.clear();
+  if (params_.occlusion_gap_deg > 0.0f) {
+    for (const Box3D& detection : detections) spans_.push_back(bearingSpan(detection, view.origin));
+  } else {
+    spans_.resize(detections.size());  // invalid: never read
+  }
+
   // Update matched tracks, age every track, drop the ones missed too often.
   const double measurement_variance = params_.measurement_std_m * params_.measurement_std_m;
   detection_used_.assign(num_detections, 0);
@@ -337,7 +468,8 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
       // then measured along the object's own sides, which stay put whatever part of them is seen.
       if (detection.size.x() >= kOwnAxesMinLengthM) track.face_axes_yaw = detection.yaw;
       const Eigen::Vector3d z = anchoredMeasurement(detection, track.box, track.filter.position(),
-                                                    track.face_axes_yaw, params_, view);
+                                                    track.face_axes_yaw, params_, view,
+                                                    spans_, j);
       track.filter.update(z, measurement_variance, params_.robust_sigma);
       track.box = detection;
       translateBox(track.box, (track.filter.position() - z).cast<float>());

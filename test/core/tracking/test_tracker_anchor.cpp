@@ -2,8 +2,8 @@
 // the object (nearest the sensor, not cut by the region of interest) rather than the centre of the
 // visible points, the viewpoint deciding which faces those are, a passing car keeping its
 // velocity as its visible part changes, a small object seen whole measured by its middle, a jump
-// of the extent (a merge with what stands close) not read as motion, and
-// the anchor parameter's names and check.
+// of the extent (a merge with what stands close) not read as motion, the edge of a nearer object's
+// shadow not read as motion, and the anchor parameter's names and check.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -178,6 +178,62 @@ TEST(TrackerAnchor, AJumpOfTheExtentIsNotMotion) {
   EXPECT_LT(worst_car, 0.5);
 }
 
+// pedestrian_near_toward through the fast path: a wall 14 m wide 25 m ahead, and a walker 0.5 m
+// wide coming toward the sensor from 12 to 3 m. The walker's shadow splits the wall into two
+// pieces whose inner ends move outward with it (to 2 m/s as the walker comes near). Each piece's
+// face toward the sensor across the line of sight is that inner end: read as motion, the wall's
+// pieces fly sideways. With occlusion_gap_deg the inner end, bordering on the nearer walker, is
+// where the view ends: of each piece's two ends the one that moved less against the prediction
+// (the outer end) is measured, and the wall stands still. The walker keeps its velocity either way.
+TEST(TrackerAnchor, AShadowsEdgeIsNotMotion) {
+  TrackerParams rule = withAnchor(TrackAnchor::kNearestFace), plain = rule;
+  rule.occlusion_gap_deg = 1.0f;  // the profiles'
+  MultiObjectTracker with_rule(rule), without(plain);
+  double worst_with = 0.0, worst_without = 0.0, worst_walker = 0.0;
+  const auto worst = [](const MultiObjectTracker& t, double& wall, double* walker) {
+    for (const Track& track : t.tracks()) {
+      if (track.age < 4) continue;
+      const Eigen::Vector2d v = track.velocity().head<2>();
+      if (std::abs(track.box.center.y()) > 1.0f)  // a piece of the wall
+        wall = std::max(wall, v.norm());
+      else if (walker)
+        *walker = std::max(*walker, (v - Eigen::Vector2d(-3.0, 0.0)).norm());
+    }
+  };
+  for (int f = 0; f < 31; ++f) {
+    const double d = 12.0 - 0.3 * f;     // the walker's near face
+    const double edge = 25.0 * 0.25 / d;  // its shadow's edges on the wall, y = +-edge
+    const std::vector<Box3D> seen = {span(25.0, 25.15, -7.0, -edge), span(d, d + 0.3, -0.25, 0.25),
+                                     span(25.0, 25.15, edge, 7.0)};
+    with_rule.update(0.1 * f, seen);
+    without.update(0.1 * f, seen);
+    ASSERT_EQ(with_rule.tracks().size(), 3u);
+    ASSERT_EQ(without.tracks().size(), 3u);
+    worst(with_rule, worst_with, &worst_walker);
+    worst(without, worst_without, &worst_walker);
+  }
+  EXPECT_LT(worst_with, 0.1);
+  EXPECT_GT(worst_without, 1.0);  // before: the shadow's edge moved the wall
+  EXPECT_LT(worst_walker, 0.3);
+
+  // A nearer object that does not border on the face's end (a walker more than 5 deg to the side
+  // of it) leaves it the face: a sliding door whose inner end moves 0.5 m/s keeps that velocity.
+  // Beside the walker from the first frame on, its fixed outer end is measured instead.
+  const auto door = [&rule](double walker_y) {
+    MultiObjectTracker t(rule);
+    for (int f = 0; f < 20; ++f) {
+      const double end = -2.0 + 0.05 * f;
+      t.update(0.1 * f, {span(25.0, 25.15, -7.0, end), span(10.0, 10.3, walker_y, walker_y + 0.5)});
+    }
+    for (const Track& track : t.tracks()) {
+      if (track.box.center.y() < -1.0f) return track.velocity().y();
+    }
+    return std::nan("");
+  };
+  EXPECT_NEAR(door(0.5), 0.5, 0.1);
+  EXPECT_NEAR(door(-0.7), 0.0, 0.1);  // bearings -4.0 to -1.1 deg: 0.6 deg from the end, then over it
+}
+
 TEST(TrackerAnchor, NamesAndValidation) {
   EXPECT_EQ(parseTrackAnchor("centre"), TrackAnchor::kCentre);
   EXPECT_EQ(parseTrackAnchor("nearest_face"), TrackAnchor::kNearestFace);
@@ -194,6 +250,14 @@ TEST(TrackerAnchor, NamesAndValidation) {
   p = TrackerParams();
   p.face_jump_m = -0.1f;
   EXPECT_EQ(validate(p), "tracker.face_jump_m must be >= 0 (got -0.1)");
+  p = TrackerParams();
+  EXPECT_EQ(p.occlusion_gap_deg, 0.0f);  // off unless a profile asks
+  p.occlusion_gap_deg = -1.0f;
+  EXPECT_EQ(validate(p), "tracker.occlusion_gap_deg must be >= 0 and < 90 (got -1)");
+  p.occlusion_gap_deg = std::nanf("");
+  EXPECT_EQ(validate(p), "tracker.occlusion_gap_deg must be >= 0 and < 90 (got nan)");
+  p.occlusion_gap_deg = 90.0f;
+  EXPECT_EQ(validate(p), "tracker.occlusion_gap_deg must be >= 0 and < 90 (got 90)");
 }
 
 }  // namespace

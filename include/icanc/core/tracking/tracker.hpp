@@ -74,6 +74,14 @@ struct TrackerParams {
   // not the face toward the sensor nor the middle: the jump is the other object, not motion. An
   // object that moves moves both faces. 0: off [m].
   float face_jump_m = 0.0f;
+  // kNearestFace: where a face's end, seen from the sensor, borders (within this many degrees of
+  // bearing) on a detection at least 0.5 m nearer, the view ends there, not the object (a wall
+  // behind a walker, a parked car behind the one before it): along that axis the face that moved
+  // less against the prediction is measured. The edge of a shadow moves with what casts it (a
+  // walker coming toward a wall, the vehicle driving past a post); read as the object's motion it
+  // made a wall's pieces fly sideways. An end along the line of sight only (a flank seen at
+  // grazing incidence) is never one. 0: off [deg].
+  float occlusion_gap_deg = 0.0f;
 };
 
 std::string validate(const TrackerParams& params);
@@ -103,6 +111,15 @@ struct Track {
   double velocityStd() const;           // planar: sqrt(var vx + var vy)
   Eigen::Vector2d velocityStdXY() const;  // per axis: sqrt(var vx), sqrt(var vy)
 };
+
+// A detection as seen from the sensor (TrackerParams::occlusion_gap_deg).
+struct BearingSpan {
+  float bearing = 0.0f;        // of the outline's first point [rad]
+  float lo = 0.0f, hi = 0.0f;  // the outline's bearings relative to that [rad]
+  float near_range = 0.0f;     // the range of the outline's nearest point [m]
+  bool valid = false;          // false: the sensor within its outline, or no outline
+};
+BearingSpan bearingSpan(const Box3D& box, const Eigen::Vector2f& origin);
 
 class MultiObjectTracker {
  public:
@@ -135,6 +152,7 @@ class MultiObjectTracker {
  private:
   TrackerParams params_;
   std::vector<Track> tracks_;
+  std::vector<BearingSpan> spans_;  // this frame's detections, for occlusion_gap_deg
   std::uint32_t next_id_ = 1;
   double last_stamp_s_ = 0.0;
   bool has_stamp_ = false;
