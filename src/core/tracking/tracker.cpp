@@ -120,18 +120,56 @@ constexpr float kEndSpreadM = 0.2f;
 // the nearer detections beside it as seen from the sensor.
 struct ViewEnds {
   const TrackerView& view;
-  const std::vector<BearingSpan>& spans;  // this frame's detections
+  const std::vector<Box3D>& detections;   // this frame's
+  const std::vector<BearingSpan>& spans;  // ... as seen from the sensor
   const Box3D& box;
   BearingSpan own;                        // the box's own
   int skip = -1;                          // the detection the box is (or is matched to)
   float gap_rad = 0.0f;                   // 0: the region's edges only
 };
 
+// The range at which the ray from `origin` along the unit direction u first meets the box's
+// outline (+inf when it misses).
+float rangeAlong(const Box3D& box, const Eigen::Vector2f& origin, const Eigen::Vector2f& u) {
+  float nearest = std::numeric_limits<float>::infinity();
+  bool first = true;
+  Eigen::Vector2f start, previous;
+  const auto edge = [&](const Eigen::Vector2f& a, const Eigen::Vector2f& b) {
+    // origin + t u = a + s (b - a): Cramer's rule on [u, a - b] [t s]^T = a - origin.
+    const Eigen::Vector2f ab = a - b, ao = a - origin;
+    const float det = u.x() * ab.y() - u.y() * ab.x();
+    if (std::abs(det) < 1e-9f) return;
+    const float t = (ao.x() * ab.y() - ao.y() * ab.x()) / det;
+    const float s = (u.x() * ao.y() - u.y() * ao.x()) / det;
+    if (t > 0.0f && s >= 0.0f && s <= 1.0f) nearest = std::min(nearest, t);
+  };
+  if (box.hull.size() == 1) return (box.hull[0] - origin).norm();
+  const auto visit = [&](const Eigen::Vector2f& q) {
+    if (first) {
+      start = q;
+      first = false;
+    } else {
+      edge(previous, q);
+    }
+    previous = q;
+  };
+  if (box.hull.empty()) {  // the axis-aligned bounds, in order around
+    visit(box.min.head<2>());
+    visit(Eigen::Vector2f(box.max.x(), box.min.y()));
+    visit(box.max.head<2>());
+    visit(Eigen::Vector2f(box.min.x(), box.max.y()));
+  } else {
+    for (const Eigen::Vector2f& q : box.hull) visit(q);
+  }
+  if (!first) edge(previous, start);
+  return nearest;
+}
+
 // True when the outline point p, the box's end toward `dir` seen from the sensor (dir runs across
 // the line of sight, within 60 deg; no part of the box lies beyond p's bearing that way by more
 // than the gap; the face's points lie within kEndSpreadM of p across the line of sight: an end
-// seen end-on, not a flank), borders on a detection nearer by kOcclusionDepthM whose bearings
-// start within the gap beyond p's: the object may go on behind it.
+// seen end-on, not a flank), borders on a detection whose bearings start within the gap beyond
+// p's and which is nearer there by kOcclusionDepthM: the object may go on behind it.
 bool occludedAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const ViewEnds& ends) {
   const Eigen::Vector2f d = p - ends.view.origin;
   const float range = d.norm();
@@ -164,7 +202,13 @@ bool occludedAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const View
     if (static_cast<int>(k) == ends.skip || !s.valid) continue;
     if (!(s.near_range <= range - kOcclusionDepthM)) continue;
     relative(s, lo, hi);
-    if (lo <= gap && hi > 0.0f) return true;
+    if (!(lo <= gap && hi > 0.0f)) continue;
+    // Nearer where it borders on p (a long wall along the road is near at one end and behind a
+    // parked car at the car's bearing): its range just beyond p's bearing, or at it.
+    const float at = bearing + side * std::min(std::max(lo, 0.0f) + 1e-4f, hi);
+    const Eigen::Vector2f u(std::cos(at), std::sin(at));
+    if (rangeAlong(ends.detections[k], ends.view.origin, u) <= range - kOcclusionDepthM)
+      return true;
   }
   return false;
 }
@@ -203,20 +247,27 @@ float faceValue(const AxesBounds& b, int axis, Face face) {
 // TrackAnchor::kNearestFace along one face axis of a box: the face toward the sensor (`sensor`:
 // its coordinates along the axes) where the sensor lies beyond the box, the middle where it lies
 // within the box's span. A face at the region of interest's edge is where the view ends, not the
-// object: the other face instead (the middle when both are cut). A face beside a nearer object
-// that hides the rest: the steadier of the two (kSteadier).
+// object: the other face instead (the middle when both are cut). Where the face that would be
+// followed ends beside a nearer object that hides the rest: the steadier of the two (kSteadier).
 Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
                  const Eigen::Vector2f& sensor, const ViewEnds& ends) {
   const Eigen::Vector2f dir = axes.row(axis).transpose();
   const Cut cut_lo = cutAt(b.lo_at[axis], -dir, ends);
   const Cut cut_hi = cutAt(b.hi_at[axis], dir, ends);
   if (cut_lo == Cut::kRegion && cut_hi == Cut::kRegion) return Face::kMiddle;
-  if (cut_lo == Cut::kRegion) return Face::kMax;
-  if (cut_hi == Cut::kRegion) return Face::kMin;
-  if (cut_lo == Cut::kOccluded || cut_hi == Cut::kOccluded) return Face::kSteadier;
-  if (sensor[axis] < b.lo[axis]) return Face::kMin;
-  if (sensor[axis] > b.hi[axis]) return Face::kMax;
-  return Face::kMiddle;
+  // One face at the region's edge: the other, unless a nearer object hides that one too.
+  if (cut_lo == Cut::kRegion) return cut_hi == Cut::kOccluded ? Face::kSteadier : Face::kMax;
+  if (cut_hi == Cut::kRegion) return cut_lo == Cut::kOccluded ? Face::kSteadier : Face::kMin;
+  // The face toward the sensor, unless a nearer object hides it: the far face is then often
+  // hidden by the object itself (a parked car behind the one before it), so neither is sure.
+  // A hidden far face changes nothing: the near one is seen.
+  const Face near = sensor[axis] < b.lo[axis]   ? Face::kMin
+                    : sensor[axis] > b.hi[axis] ? Face::kMax
+                                                : Face::kMiddle;
+  const bool hidden = near == Face::kMin   ? cut_lo == Cut::kOccluded
+                      : near == Face::kMax ? cut_hi == Cut::kOccluded
+                                           : cut_lo == Cut::kOccluded || cut_hi == Cut::kOccluded;
+  return hidden ? Face::kSteadier : near;
 }
 
 // The position the filter measures for `detection` against the track's predicted box: the
@@ -229,21 +280,22 @@ Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
 // middles, two faces' noise averaged. With params.face_jump_m, along an axis where the extent
 // jumps by more than that, the face that moved less against the prediction; with
 // params.occlusion_gap_deg, the same along an axis where a face of the detection ends beside a
-// nearer object. `spans` are the
-// frame's detections seen from the sensor, `matched` the index of `detection` among them.
+// nearer object. `detections` are the frame's, `spans` the same seen from the sensor, `matched`
+// the index of `detection` among them.
 Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
                                     const Eigen::Vector3d& predicted_reference,
                                     float face_axes_yaw, const TrackerParams& params,
                                     const TrackerView& view,
+                                    const std::vector<Box3D>& detections,
                                     const std::vector<BearingSpan>& spans, int matched) {
   const float c = std::cos(face_axes_yaw), s = std::sin(face_axes_yaw);
   Eigen::Matrix2f axes;
   axes << c, s, -s, c;
   const AxesBounds det = boundsAlong(detection, axes), pred = boundsAlong(predicted, axes);
   const float gap = params.occlusion_gap_deg * static_cast<float>(M_PI / 180.0);
-  const ViewEnds det_ends{view, spans, detection, spans[static_cast<std::size_t>(matched)],
-                          matched, gap};
-  const ViewEnds pred_ends{view, spans, predicted,
+  const ViewEnds det_ends{view,      detections, spans, detection,
+                          spans[static_cast<std::size_t>(matched)], matched, gap};
+  const ViewEnds pred_ends{view, detections, spans, predicted,
                            gap > 0.0f ? bearingSpan(predicted, view.origin) : BearingSpan(),
                            matched, gap};
   const Eigen::Vector2f extent = (det.hi - det.lo).cwiseMax(pred.hi - pred.lo);
@@ -469,7 +521,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
       if (detection.size.x() >= kOwnAxesMinLengthM) track.face_axes_yaw = detection.yaw;
       const Eigen::Vector3d z = anchoredMeasurement(detection, track.box, track.filter.position(),
                                                     track.face_axes_yaw, params_, view,
-                                                    spans_, j);
+                                                    detections, spans_, j);
       track.filter.update(z, measurement_variance, params_.robust_sigma);
       track.box = detection;
       translateBox(track.box, (track.filter.position() - z).cast<float>());

@@ -219,19 +219,23 @@ TEST(TrackerAnchor, AShadowsEdgeIsNotMotion) {
   // A nearer object that does not border on the face's end (a walker more than 5 deg to the side
   // of it) leaves it the face: a sliding door whose inner end moves 0.5 m/s keeps that velocity.
   // Beside the walker from the first frame on, its fixed outer end is measured instead.
-  const auto door = [&rule](double walker_y) {
+  const auto door = [&rule](const Box3D& other) {
     MultiObjectTracker t(rule);
-    for (int f = 0; f < 20; ++f) {
-      const double end = -2.0 + 0.05 * f;
-      t.update(0.1 * f, {span(25.0, 25.15, -7.0, end), span(10.0, 10.3, walker_y, walker_y + 0.5)});
-    }
+    for (int f = 0; f < 20; ++f) t.update(0.1 * f, {span(25.0, 25.15, -7.0, -2.0 + 0.05 * f), other});
     for (const Track& track : t.tracks()) {
-      if (track.box.center.y() < -1.0f) return track.velocity().y();
+      if (track.box.center.y() < -1.0f && track.box.center.x() > 24.0f) return track.velocity().y();
     }
     return std::nan("");
   };
-  EXPECT_NEAR(door(0.5), 0.5, 0.1);
-  EXPECT_NEAR(door(-0.7), 0.0, 0.1);  // bearings -4.0 to -1.1 deg: 0.6 deg from the end, then over it
+  EXPECT_NEAR(door(span(10.0, 10.3, 0.5, 1.0)), 0.5, 0.1);
+  // bearings -4.0 to -1.1 deg: 0.6 deg from the end, then over it
+  EXPECT_NEAR(door(span(10.0, 10.3, -0.7, -0.2)), 0.0, 0.1);
+  // A wall running from (10, -10) to (60, 10): its near end is 14 m away and its bearings cover the
+  // door's end, but at that bearing it lies 29 m away, behind the door: it hides nothing there.
+  Box3D diagonal = span(10.0, 60.0, -10.0, 10.0);
+  diagonal.hull = {Eigen::Vector2f(10.0f, -10.0f), Eigen::Vector2f(60.0f, 10.0f),
+                   Eigen::Vector2f(59.9f, 10.1f), Eigen::Vector2f(9.9f, -9.9f)};
+  EXPECT_NEAR(door(diagonal), 0.5, 0.1);
 }
 
 TEST(TrackerAnchor, NamesAndValidation) {

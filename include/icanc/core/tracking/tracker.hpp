@@ -74,13 +74,14 @@ struct TrackerParams {
   // not the face toward the sensor nor the middle: the jump is the other object, not motion. An
   // object that moves moves both faces. 0: off [m].
   float face_jump_m = 0.0f;
-  // kNearestFace: where a face's end, seen from the sensor, borders (within this many degrees of
-  // bearing) on a detection at least 0.5 m nearer, the view ends there, not the object (a wall
-  // behind a walker, a parked car behind the one before it): along that axis the face that moved
-  // less against the prediction is measured. The edge of a shadow moves with what casts it (a
-  // walker coming toward a wall, the vehicle driving past a post); read as the object's motion it
-  // made a wall's pieces fly sideways. An end along the line of sight only (a flank seen at
-  // grazing incidence) is never one. 0: off [deg].
+  // kNearestFace: where the face toward the sensor ends, seen from the sensor, beside (within this
+  // many degrees of bearing) a detection at least 0.5 m nearer at that bearing, the view ends
+  // there, not the object (a wall behind a walker, a parked car behind the one before it): along
+  // that axis the face that moved less against the prediction is measured (the far face is often
+  // hidden by the object itself). The edge of a shadow moves with what casts it (a walker coming
+  // toward a wall, the vehicle driving past a post); read as the object's motion it made a wall's
+  // pieces fly sideways. A face seen along its length (a flank at grazing incidence) is never one.
+  // 0: off [deg].
   float occlusion_gap_deg = 0.0f;
 };
 
