@@ -116,8 +116,8 @@ constexpr float kFacingCos = 0.5f;
 constexpr float kFaceDepthM = 0.15f;
 constexpr float kEndSpreadM = 0.2f;
 
-// Where the view of one box ends: the region of interest's edges, and (occlusion_gap_deg > 0)
-// the nearer detections beside it as seen from the sensor.
+// What occludedAt needs of one box and its frame (occlusion_gap_deg > 0): the nearer detections
+// beside it as seen from the sensor.
 struct ViewEnds {
   const TrackerView& view;
   const std::vector<Box3D>& detections;   // this frame's
@@ -125,7 +125,7 @@ struct ViewEnds {
   const Box3D& box;
   BearingSpan own;                        // the box's own
   int skip = -1;                          // the detection the box is (or is matched to)
-  float gap_rad = 0.0f;                   // 0: the region's edges only
+  float gap_rad = 0.0f;                   // 0: no occlusion test
 };
 
 // The range at which the ray from `origin` along the unit direction u first meets the box's
@@ -213,20 +213,15 @@ bool occludedAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const View
   return false;
 }
 
-// Whether the outline point p, extreme along direction `dir` (vehicle frame), is where the view
-// ends, not the object: on an edge of the region of interest that faces that way (kRegion; outward
-// normal within 60 deg of dir; along the vehicle's axes: the edge of the same axis only), or beside
-// a nearer detection that hides the rest (kOccluded, occludedAt).
-enum class Cut : std::uint8_t { kNone, kRegion, kOccluded };
-Cut cutAt(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const ViewEnds& ends) {
-  const TrackerView& view = ends.view;
+// True when the outline point p, extreme along direction `dir` (vehicle frame), lies on an edge of
+// the region of interest that faces that way (outward normal within 60 deg of dir): the bound
+// there is where the view ends. Along the vehicle's axes: the edge of the same axis only.
+bool atRegionEdge(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const TrackerView& view) {
   for (int k = 0; k < 2; ++k) {
-    if (-dir[k] > kFacingCos && p[k] <= view.region_min[k] + view.region_tolerance_m)
-      return Cut::kRegion;
-    if (dir[k] > kFacingCos && p[k] >= view.region_max[k] - view.region_tolerance_m)
-      return Cut::kRegion;
+    if (-dir[k] > kFacingCos && p[k] <= view.region_min[k] + view.region_tolerance_m) return true;
+    if (dir[k] > kFacingCos && p[k] >= view.region_max[k] - view.region_tolerance_m) return true;
   }
-  return ends.gap_rad > 0.0f && occludedAt(p, dir, ends) ? Cut::kOccluded : Cut::kNone;
+  return false;
 }
 
 // Which part of the box the filter follows along one axis. kSteadier: of the two faces, the one
@@ -252,22 +247,26 @@ float faceValue(const AxesBounds& b, int axis, Face face) {
 Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
                  const Eigen::Vector2f& sensor, const ViewEnds& ends) {
   const Eigen::Vector2f dir = axes.row(axis).transpose();
-  const Cut cut_lo = cutAt(b.lo_at[axis], -dir, ends);
-  const Cut cut_hi = cutAt(b.hi_at[axis], dir, ends);
-  if (cut_lo == Cut::kRegion && cut_hi == Cut::kRegion) return Face::kMiddle;
+  // Occlusion is tested only for the face that would be followed (each test runs over the
+  // frame's detections).
+  const auto hidden_lo = [&] {
+    return ends.gap_rad > 0.0f && occludedAt(b.lo_at[axis], -dir, ends);
+  };
+  const auto hidden_hi = [&] {
+    return ends.gap_rad > 0.0f && occludedAt(b.hi_at[axis], dir, ends);
+  };
+  const bool edge_lo = atRegionEdge(b.lo_at[axis], -dir, ends.view);
+  const bool edge_hi = atRegionEdge(b.hi_at[axis], dir, ends.view);
+  if (edge_lo && edge_hi) return Face::kMiddle;
   // One face at the region's edge: the other, unless a nearer object hides that one too.
-  if (cut_lo == Cut::kRegion) return cut_hi == Cut::kOccluded ? Face::kSteadier : Face::kMax;
-  if (cut_hi == Cut::kRegion) return cut_lo == Cut::kOccluded ? Face::kSteadier : Face::kMin;
+  if (edge_lo) return hidden_hi() ? Face::kSteadier : Face::kMax;
+  if (edge_hi) return hidden_lo() ? Face::kSteadier : Face::kMin;
   // The face toward the sensor, unless a nearer object hides it: the far face is then often
   // hidden by the object itself (a parked car behind the one before it), so neither is sure.
   // A hidden far face changes nothing: the near one is seen.
-  const Face near = sensor[axis] < b.lo[axis]   ? Face::kMin
-                    : sensor[axis] > b.hi[axis] ? Face::kMax
-                                                : Face::kMiddle;
-  const bool hidden = near == Face::kMin   ? cut_lo == Cut::kOccluded
-                      : near == Face::kMax ? cut_hi == Cut::kOccluded
-                                           : cut_lo == Cut::kOccluded || cut_hi == Cut::kOccluded;
-  return hidden ? Face::kSteadier : near;
+  if (sensor[axis] < b.lo[axis]) return hidden_lo() ? Face::kSteadier : Face::kMin;
+  if (sensor[axis] > b.hi[axis]) return hidden_hi() ? Face::kSteadier : Face::kMax;
+  return hidden_lo() || hidden_hi() ? Face::kSteadier : Face::kMiddle;
 }
 
 // The position the filter measures for `detection` against the track's predicted box: the
@@ -295,9 +294,6 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
   const float gap = params.occlusion_gap_deg * static_cast<float>(M_PI / 180.0);
   const ViewEnds det_ends{view,      detections, spans, detection,
                           spans[static_cast<std::size_t>(matched)], matched, gap};
-  const ViewEnds pred_ends{view, detections, spans, predicted,
-                           gap > 0.0f ? bearingSpan(predicted, view.origin) : BearingSpan(),
-                           matched, gap};
   const Eigen::Vector2f extent = (det.hi - det.lo).cwiseMax(pred.hi - pred.lo);
   const bool faces = params.anchor == TrackAnchor::kNearestFace &&
                      !(extent.maxCoeff() < params.face_min_extent_m);
@@ -309,22 +305,27 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
       // Passing alongside, the detection spans the sensor and both its faces are seen; the
       // predicted box's far face was not: keep the face it was followed by.
       face = nearestFace(det, axis, axes, sensor, det_ends);
-      if (face == Face::kMiddle) face = nearestFace(pred, axis, axes, sensor, pred_ends);
+      if (face == Face::kMiddle) {
+        const ViewEnds pred_ends{view, detections, spans, predicted,
+                                 gap > 0.0f ? bearingSpan(predicted, view.origin) : BearingSpan(),
+                                 matched, gap};
+        face = nearestFace(pred, axis, axes, sensor, pred_ends);
+      }
     }
+    // Each face's innovation against the prediction, and the smaller one: the face that stayed.
     const float lo = det.lo[axis] - pred.lo[axis], hi = det.hi[axis] - pred.hi[axis];
-    moved[axis] = face == Face::kSteadier ? (std::abs(lo) < std::abs(hi) ? lo : hi)
-                                          : faceValue(det, axis, face) - faceValue(pred, axis, face);
+    const float steadier = std::abs(lo) < std::abs(hi) ? lo : hi;
+    moved[axis] = face == Face::kSteadier
+                      ? steadier
+                      : faceValue(det, axis, face) - faceValue(pred, axis, face);
     if (params.anchor == TrackAnchor::kNearestFace && params.face_jump_m > 0.0f) {
-      // The extent jumped (a merge or a split with what stands close): the face that stayed (the
-      // smaller innovation against the prediction), when neither box has it at the region's edge.
+      // The extent jumped (a merge or a split with what stands close): the face that stayed, when
+      // neither box has it at the region's edge.
       const Eigen::Vector2f dir = axes.row(axis).transpose();
-      const auto whole = [&dir, axis](const AxesBounds& b, const ViewEnds& ends) {
-        return cutAt(b.lo_at[axis], -dir, ends) != Cut::kRegion &&
-               cutAt(b.hi_at[axis], dir, ends) != Cut::kRegion;
-      };
-      if (std::abs(hi - lo) > params.face_jump_m && whole(det, det_ends) &&
-          whole(pred, pred_ends))
-        moved[axis] = std::abs(lo) < std::abs(hi) ? lo : hi;
+      if (std::abs(hi - lo) > params.face_jump_m && !atRegionEdge(det.lo_at[axis], -dir, view) &&
+          !atRegionEdge(pred.lo_at[axis], -dir, view) &&
+          !atRegionEdge(det.hi_at[axis], dir, view) && !atRegionEdge(pred.hi_at[axis], dir, view))
+        moved[axis] = steadier;
     }
   }
   Eigen::Vector3d z = predicted_reference;

@@ -221,7 +221,8 @@ TEST(TrackerAnchor, AShadowsEdgeIsNotMotion) {
   // Beside the walker from the first frame on, its fixed outer end is measured instead.
   const auto door = [&rule](const Box3D& other) {
     MultiObjectTracker t(rule);
-    for (int f = 0; f < 20; ++f) t.update(0.1 * f, {span(25.0, 25.15, -7.0, -2.0 + 0.05 * f), other});
+    for (int f = 0; f < 20; ++f)
+      t.update(0.1 * f, {span(25.0, 25.15, -7.0, -2.0 + 0.05 * f), other});
     for (const Track& track : t.tracks()) {
       if (track.box.center.y() < -1.0f && track.box.center.x() > 24.0f) return track.velocity().y();
     }
