@@ -122,13 +122,14 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
   for (float x : {prep.roi_min.x(), prep.roi_max.x()})
     for (float y : {prep.roi_min.y(), prep.roi_max.y()}) max_range = std::max(max_range, std::hypot(x, y));
   bins_ = static_cast<int>(std::ceil(max_range / params.range_bin_m)) + 1;
-  pass_one_.ego = prep.remove_ego;
-  for (int i = 0; i < 3; ++i) {
-    pass_one_.roi_min[i] = prep.roi_min[i];
-    pass_one_.roi_max[i] = prep.roi_max[i];
-    pass_one_.ego_min[i] = prep.ego_min[i];
-    pass_one_.ego_max[i] = prep.ego_max[i];
-    pass_one_.ego = pass_one_.ego && prep.ego_min[i] < prep.ego_max[i];
+  bool ego = prep.remove_ego;
+  for (int i = 0; i < 3; ++i) ego = ego && prep.ego_min[i] < prep.ego_max[i];
+  for (int i = 0; i < 4; ++i) {
+    const int axis = std::min(i, 2);  // the fourth lane repeats z
+    pass_one_.roi_min[i] = prep.roi_min[axis];
+    pass_one_.roi_max[i] = prep.roi_max[axis];
+    pass_one_.ego_min[i] = ego ? prep.ego_min[axis] : kInf;  // no ego box: nothing is inside
+    pass_one_.ego_max[i] = ego ? prep.ego_max[axis] : -kInf;
   }
   pass_one_.inv_cell = inv_cell_;
   pass_one_.nx = nx_;
@@ -159,7 +160,7 @@ FastDetector::FastDetector(const CloudPrepParams& prep, const FastDetectorParams
   polar_min_z_.assign(static_cast<std::size_t>(params.sectors) * bins_, kInf);
   polar_ground_.assign(polar_min_z_.size(), 0.0f);
   cell_min_z_.assign(polar_of_cell_.size(), kInf);
-  cells_.resize(polar_of_cell_.size());
+  cell_slot_.assign(polar_of_cell_.size(), -1);
   cut_z_.assign(polar_of_cell_.size(), kInf);
   cos_split_ = std::cos(params.range_split_angle_deg * kDeg);
   cos_split_vertical_ = std::cos(params.range_split_vertical_angle_deg * kDeg);
@@ -171,7 +172,7 @@ std::size_t FastDetector::capacityBytes() const {
           near_lows_.capacity() + cut_z_.capacity()) * sizeof(float) +
          (cut_cells_.capacity() + high_.capacity() + cluster_of_slot_.capacity() +
           dropped_.capacity()) * sizeof(std::int32_t) +
-         cells_.capacity() * sizeof(Cell) +
+         cells_.capacity() * sizeof(Cell) + cell_slot_.capacity() * sizeof(std::int32_t) +
          (occupied_.capacity() + parent_.capacity() + next_in_cluster_.capacity() +
           cluster_of_root_.capacity()) * sizeof(std::int32_t) +
          clusters_.capacity() * sizeof(Cluster) + footprint_.capacity() * sizeof(cv::Point2f) +
@@ -282,27 +283,33 @@ void FastDetector::estimateGround() {
 
 void FastDetector::addObstacle(const Kept& p) {
   ++obstacle_points_;
-  Cell& c = cells_[p.cell];
-  if (c.count == 0) {
-    c.slot = static_cast<std::int32_t>(occupied_.size());
+  std::int32_t& slot = cell_slot_[p.cell];
+  if (slot < 0) {
+    slot = static_cast<std::int32_t>(occupied_.size());
     occupied_.push_back(static_cast<std::int32_t>(p.cell));
+    cells_.emplace_back();
+    Cell& c = cells_.back();
+    c.count = 1;
     c.zmin = c.zmax = p.z;
     c.floor = -kInf;
     c.xmin_x = c.xmax_x = c.ymin_x = c.ymax_x = p.x;
     c.xmin_y = c.xmax_y = c.ymin_y = c.ymax_y = p.y;
-  } else {
-    c.zmin = std::min(c.zmin, p.z);
-    c.zmax = std::max(c.zmax, p.z);
-    if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
-    if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
-    if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
-    if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
+    return;
   }
+  Cell& c = cells_[static_cast<std::size_t>(slot)];
+  c.zmin = std::min(c.zmin, p.z);
+  c.zmax = std::max(c.zmax, p.z);
+  if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
+  if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
+  if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
+  if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
   ++c.count;
 }
 
 void FastDetector::markObstacles() {
+  for (std::int32_t cell : occupied_) cell_slot_[static_cast<std::size_t>(cell)] = -1;
   occupied_.clear();
+  cells_.clear();
   obstacle_points_ = 0;
   obstacle_index_.clear();
   const bool record = params_.range_split_angle_deg > 0.0f || params_.link_step_beams > 0.0f;
@@ -338,9 +345,9 @@ void FastDetector::markObstacles() {
     cut = std::min(cut, p.z);
   }
   for (std::int32_t cell : cut_cells_) {
-    const Cell& c = cells_[static_cast<std::size_t>(cell)];
+    const std::int32_t slot = cell_slot_[static_cast<std::size_t>(cell)];
     float& cut = cut_z_[static_cast<std::size_t>(cell)];
-    if (c.count == 0 || cut - c.zmax < gap) cut = kInf;
+    if (slot < 0 || cut - cells_[static_cast<std::size_t>(slot)].zmax < gap) cut = kInf;
   }
   for (std::uint32_t i : high_) {
     const Kept& p = points_[i];
@@ -351,9 +358,10 @@ void FastDetector::markObstacles() {
   }
   // Floating cells: every point at least overhang_min_height_m up.
   for (std::int32_t cell : cut_cells_) {
-    Cell& c = cells_[static_cast<std::size_t>(cell)];
-    if (c.count > 0 &&
-        c.zmin - polar_ground_[static_cast<std::size_t>(polar_of_cell_[cell])] >= high)
+    const std::int32_t slot = cell_slot_[static_cast<std::size_t>(cell)];
+    if (slot < 0) continue;
+    Cell& c = cells_[static_cast<std::size_t>(slot)];
+    if (c.zmin - polar_ground_[static_cast<std::size_t>(polar_of_cell_[cell])] >= high)
       c.floor = c.zmin;
   }
 }
@@ -388,7 +396,7 @@ void FastDetector::linkCells(bool check_steps, float step_tan) {
   for (std::int32_t k = 0; k < n; ++k) {
     const int cell = occupied_[k];
     const int cx = cell % nx_, cy = cell / nx_;
-    const Cell& here = cells_[cell];
+    const Cell& here = cells_[static_cast<std::size_t>(k)];
     const bool check = check_steps && long_[first_root_[k]];
     float max_step = params_.link_max_step_m;
     if (check && step_tan > 0.0f) {  // one beam spacing at this cell's range from the sensor
@@ -399,13 +407,14 @@ void FastDetector::linkCells(bool check_steps, float step_tan) {
     for (const auto& d : forward_) {
       const int x = cx + d.first, y = cy + d.second;
       if (x < 0 || x >= nx_ || y >= ny_) continue;
-      const Cell& other = cells_[static_cast<std::size_t>(y) * nx_ + x];
-      if (other.count == 0) continue;
+      const std::int32_t slot = cell_slot_[static_cast<std::size_t>(y) * nx_ + x];
+      if (slot < 0) continue;
+      const Cell& other = cells_[static_cast<std::size_t>(slot)];
       if (check && std::abs(other.zmax - here.zmax) > max_step) continue;
       // A floating cell (floor > -inf) joins only what reaches up to within `gap` of it: a roof
       // does not join the pedestrian under it, a wall's top the wall.
       if (std::max(here.floor, other.floor) - std::min(here.zmax, other.zmax) >= gap) continue;
-      const std::int32_t a = find(k), b = find(other.slot);
+      const std::int32_t a = find(k), b = find(slot);
       if (a != b) parent_[std::max(a, b)] = std::min(a, b);
     }
   }
@@ -477,7 +486,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
     }
     cluster_of_slot_[k] = cluster_of_root_[root];
     Cluster& c = clusters_[cluster_of_root_[root]];
-    const Cell& cell = cells_[occupied_[k]];
+    const Cell& cell = cells_[static_cast<std::size_t>(k)];
     c.count += cell.count;
     c.grounded = c.grounded || cell.floor == -kInf;
     c.zmin = std::min(c.zmin, cell.zmin);
@@ -496,7 +505,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
     if (c.split) continue;      // boxed by rangeSplit
     footprint_.clear();
     for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
-      const Cell& cell = cells_[occupied_[k]];
+      const Cell& cell = cells_[static_cast<std::size_t>(k)];
       footprint_.emplace_back(cell.xmin_x, cell.xmin_y);
       footprint_.emplace_back(cell.xmax_x, cell.xmax_y);
       footprint_.emplace_back(cell.ymin_x, cell.ymin_y);
@@ -507,7 +516,6 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
   std::stable_sort(boxes.begin(), boxes.end(),
                    [](const Box3D& a, const Box3D& b) { return a.num_points > b.num_points; });
 
-  for (std::int32_t cell : occupied_) cells_[cell].count = 0;  // ready for the next frame
 }
 
 void FastDetector::dropGrazingColumns() {
@@ -538,7 +546,7 @@ void FastDetector::dropGrazingColumns() {
     if (!t.grounded || t.cells > 4 || t.count < params_.min_points) continue;
     float sx = 0.0f, sy = 0.0f;
     for (std::int32_t k = t.first_cell; k >= 0; k = next_in_cluster_[k]) {
-      const Cell& cell = cells_[occupied_[k]];
+      const Cell& cell = cells_[static_cast<std::size_t>(k)];
       sx += cell.xmin_x + cell.xmax_x + cell.ymin_x + cell.ymax_x;
       sy += cell.xmin_y + cell.xmax_y + cell.ymin_y + cell.ymax_y;
     }
@@ -548,7 +556,7 @@ void FastDetector::dropGrazingColumns() {
     const float ux = cx / r, uy = cy / r;  // line of sight (from the grid's origin)
     float lo = kInf, hi = -kInf;           // its points across the line of sight
     for (std::int32_t k = t.first_cell; k >= 0; k = next_in_cluster_[k]) {
-      const Cell& cell = cells_[occupied_[k]];
+      const Cell& cell = cells_[static_cast<std::size_t>(k)];
       for (const auto& q : {std::make_pair(cell.xmin_x, cell.xmin_y),
                             std::make_pair(cell.xmax_x, cell.xmax_y),
                             std::make_pair(cell.ymin_x, cell.ymin_y),
@@ -564,9 +572,11 @@ void FastDetector::dropGrazingColumns() {
     bool continued = false;
     for (int y = std::max(0, gy - reach); y <= std::min(ny_ - 1, gy + reach) && !continued; ++y) {
       for (int x = std::max(0, gx - reach); x <= std::min(nx_ - 1, gx + reach); ++x) {
-        const Cell& other = cells_[static_cast<std::size_t>(y) * nx_ + x];
-        if (other.count == 0 || other.floor != -kInf) continue;
-        const std::int32_t oc = cluster_of_slot_[other.slot];
+        const std::int32_t slot = cell_slot_[static_cast<std::size_t>(y) * nx_ + x];
+        if (slot < 0) continue;
+        const Cell& other = cells_[static_cast<std::size_t>(slot)];
+        if (other.floor != -kInf) continue;
+        const std::int32_t oc = cluster_of_slot_[slot];
         if (oc == c || clusters_[oc].count < params_.min_points) continue;
         if (max_step > 0.0f && std::abs(other.zmax - t.zmax) > max_step) continue;
         // From the column to the middle of the cell's points.
@@ -606,14 +616,14 @@ float FastDetector::beamStepTangent() {
   std::int32_t widest = -1;
   for (std::size_t k = 0; k < occupied_.size(); ++k) {
     const std::int32_t root = first_root_[k];
-    points_of[root] += cells_[occupied_[k]].count;
+    points_of[root] += cells_[static_cast<std::size_t>(k)].count;
     if (widest < 0 || points_of[root] > points_of[widest]) widest = root;
   }
   if (widest < 0) return 0.0f;
   // Its rays (the first 1500: the estimate sorts them), from the sensor.
   rays_.clear();
   for (std::uint32_t i : obstacle_index_) {
-    if (first_root_[cells_[points_[i].cell].slot] != widest) continue;
+    if (first_root_[cell_slot_[points_[i].cell]] != widest) continue;
     rays_.push_back(rayOf(i));
     if (rays_.size() == 1500) break;
   }
@@ -634,7 +644,7 @@ void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
       continue;  // (cells 0: a column dropGrazingColumns dropped)
     float xmin = kInf, xmax = -kInf, ymin = kInf, ymax = -kInf;
     for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
-      const Cell& cell = cells_[occupied_[k]];
+      const Cell& cell = cells_[static_cast<std::size_t>(k)];
       xmin = std::min(xmin, cell.xmin_x);
       xmax = std::max(xmax, cell.xmax_x);
       ymin = std::min(ymin, cell.ymin_y);
@@ -649,7 +659,7 @@ void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
   std::vector<std::int32_t>& count = pixel_parent_;  // scratch until splitCluster
   count.assign(nc, 0);
   for (std::uint32_t i : obstacle_index_) {
-    const std::int32_t cl = cluster_of_slot_[cells_[points_[i].cell].slot];
+    const std::int32_t cl = cluster_of_slot_[cell_slot_[points_[i].cell]];
     if (ray_begin_[cl] >= 0) ++count[cl];
   }
   std::int32_t total = 0;
@@ -666,7 +676,7 @@ void FastDetector::rangeSplit(std::vector<Box3D>& boxes) {
   fill.assign(ray_begin_.begin(), ray_begin_.end());
   for (std::uint32_t i : obstacle_index_) {
     const Kept& p = points_[i];
-    const std::int32_t cl = cluster_of_slot_[cells_[p.cell].slot];
+    const std::int32_t cl = cluster_of_slot_[cell_slot_[p.cell]];
     if (ray_begin_[cl] < 0) continue;
     rays_[static_cast<std::size_t>(fill[cl]++)] = rayOf(i);
   }
@@ -879,12 +889,12 @@ void FastDetector::splitCluster(std::size_t cluster, std::size_t begin, std::siz
   cell_carved_.resize(occupied_.size());
   for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) cell_carved_[k] = 0;
   for (std::int32_t j = 0; j < n; ++j)
-    if (piece[ray[j].pixel].carved) cell_carved_[cells_[points_[ray[j].point].cell].slot] = 1;
+    if (piece[ray[j].pixel].carved) cell_carved_[cell_slot_[points_[ray[j].point].cell]] = 1;
   footprint_.clear();
   float zmin = kInf, zmax = -kInf;
   for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
     if (cell_carved_[k]) continue;
-    const Cell& cell = cells_[occupied_[k]];
+    const Cell& cell = cells_[static_cast<std::size_t>(k)];
     footprint_.emplace_back(cell.xmin_x, cell.xmin_y);
     footprint_.emplace_back(cell.xmax_x, cell.xmax_y);
     footprint_.emplace_back(cell.ymin_x, cell.ymin_y);
@@ -894,7 +904,7 @@ void FastDetector::splitCluster(std::size_t cluster, std::size_t begin, std::siz
   }
   for (std::int32_t j = 0; j < n; ++j) {
     const Kept& p = points_[ray[j].point];
-    if (piece[ray[j].pixel].carved || !cell_carved_[cells_[p.cell].slot]) continue;
+    if (piece[ray[j].pixel].carved || !cell_carved_[cell_slot_[p.cell]]) continue;
     footprint_.emplace_back(p.x, p.y);
     zmin = std::min(zmin, p.z);
     zmax = std::max(zmax, p.z);

@@ -538,6 +538,52 @@ TEST(FastDetector, EmptyAndNonFiniteInputGiveNoObjects) {
   EXPECT_TRUE(boxes.empty());
 }
 
+// Pass 1 keeps exactly what prepareCloud keeps (voxel grid off): both boxes closed, the ROI's
+// boundary kept and the ego box's dropped, NaN, +-inf and all-zero points out, the ego box off when
+// remove_ego is false or it is empty on an axis. Pass 1 tests each box with packed comparisons
+// where SSE2 exists, so the boundaries are pinned here point by point.
+TEST(FastDetector, PassOneKeepsWhatPrepareCloudKeeps) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  CloudPrepParams with_ego = roiAndEgo({-10.0f, -20.0f, -2.5f}, {60.0f, 20.0f, 1.5f},
+                                       {-2.0f, -1.0f, -2.0f}, {3.0f, 1.0f, 0.5f});
+  CloudPrepParams no_ego = with_ego;
+  no_ego.remove_ego = false;
+  CloudPrepParams empty_ego = with_ego;
+  empty_ego.ego_max.z() = empty_ego.ego_min.z();  // empty on z: nothing dropped
+  CloudPrepParams zero_outside_ego = roiAndEgo({-10.0f, -20.0f, -2.5f}, {60.0f, 20.0f, 1.5f},
+                                               {2.0f, 2.0f, -2.0f}, {3.0f, 3.0f, 0.5f});
+  Cloud cloud;
+  const std::vector<float> xs = {-10.0f, std::nextafter(-10.0f, -inf), -2.0f, 0.0f, 3.0f,
+                                 std::nextafter(3.0f, inf), 60.0f, std::nextafter(60.0f, inf),
+                                 -0.0f, nan, inf, -inf};
+  const std::vector<float> ys = {-20.0f, std::nextafter(-20.0f, -inf), -1.0f, 0.0f, 1.0f,
+                                 std::nextafter(1.0f, inf), 20.0f, std::nextafter(20.0f, inf), nan};
+  const std::vector<float> zs = {-2.5f, std::nextafter(-2.5f, -inf), -2.0f, 0.0f, 0.5f,
+                                 std::nextafter(0.5f, inf), 1.5f, std::nextafter(1.5f, inf), nan, -inf};
+  for (float x : xs)
+    for (float y : ys)
+      for (float z : zs) cloud.push_back(Point(x, y, z));
+  for (const CloudPrepParams& prep : {with_ego, no_ego, empty_ego, zero_outside_ego}) {
+    Cloud prepared;
+    prepareCloud(cloud, prep, prepared);
+    FastDetector detector(prep, FastDetectorParams());
+    std::vector<Box3D> boxes;
+    detector.detect(cloud, boxes);
+    Cloud ground, obstacles;
+    detector.splitPoints(ground, obstacles);
+    EXPECT_EQ(detector.keptPoints(), prepared.size());
+    // Point by point: every kept point is one prepareCloud kept (ground, obstacles and what lies
+    // above max_height_m together are all of them only when nothing was left out).
+    EXPECT_GT(prepared.size(), 100u);
+    for (const Cloud* part : {&ground, &obstacles})
+      for (const Point& p : part->points)
+        ASSERT_TRUE(std::any_of(prepared.points.begin(), prepared.points.end(), [&p](const Point& q) {
+          return q.x == p.x && q.y == p.y && q.z == p.z;
+        })) << p.x << " " << p.y << " " << p.z;
+  }
+}
+
 TEST(FastDetector, InvalidParametersAreNamed) {
   EXPECT_EQ(validate(FastDetectorParams()), "");
   FastDetectorParams p;

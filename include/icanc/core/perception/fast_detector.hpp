@@ -48,6 +48,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <opencv2/core/types.hpp>
 
 #include "icanc/core/common/always_inline.hpp"
@@ -174,9 +178,8 @@ class FastDetector {
     float x, y, z;
     std::uint32_t cell;
   };
-  struct Cell {  // BEV cell accumulator, valid only while `count` > 0
+  struct Cell {  // accumulator of an occupied BEV cell (cells_[slot], occupied_[slot] its cell)
     std::int32_t count = 0;
-    std::int32_t slot = -1;  // index into occupied_
     float zmin, zmax;
     float floor;             // zmin when every point is overhang_min_height_m up, else -inf
     float xmin_x, xmin_y, xmax_x, xmax_y, ymin_x, ymin_y, ymax_x, ymax_y;  // extreme points
@@ -201,9 +204,12 @@ class FastDetector {
   // What pass 1 reads per point, copied into a local of detectFrom: the stores into points_ then
   // cannot alias it, so the compiler keeps the bounds in registers instead of reloading them
   // after every point.
+  // Each box as four lanes (x, y, z, z again); without an ego box, an empty one (+inf .. -inf).
   struct PassOne {
-    float roi_min[3], roi_max[3], ego_min[3], ego_max[3];
-    bool ego;
+    alignas(16) float roi_min[4];
+    alignas(16) float roi_max[4];
+    alignas(16) float ego_min[4];
+    alignas(16) float ego_max[4];
     float inv_cell;
     int nx, ny;
   };
@@ -253,7 +259,12 @@ class FastDetector {
   std::vector<float> polar_min_z_;
   std::vector<float> polar_ground_;
   std::vector<float> near_lows_;             // scratch: lowest z of the bins near the vehicle
-  std::vector<Cell> cells_;
+  // Per BEV cell: its slot in occupied_ and cells_ this frame, -1 when empty (reset through
+  // occupied_ at the next frame's start). The accumulators live only per occupied cell: a dense
+  // grid of them (56 bytes a cell, 2.5 MB on the KITTI profile's grid) made every obstacle point a
+  // cache miss in markObstacles.
+  std::vector<std::int32_t> cell_slot_;
+  std::vector<Cell> cells_;  // per slot
   // Per BEV cell: points at or above this z are an overhang (+inf: none). Set for the cells in
   // cut_cells_, which the next frame resets; read again by splitPoints.
   std::vector<float> cut_z_;
@@ -314,17 +325,30 @@ void FastDetector::detectFrom(Source&& source, std::vector<Box3D>& boxes, FastSt
   float* const cell_min_z = cell_min_z_.data();
   Kept* out = points_.data();
   std::size_t n = 0, capacity = points_.size();
+#if defined(__SSE2__)
+  const __m128 roi_lo = _mm_load_ps(p.roi_min), roi_hi = _mm_load_ps(p.roi_max);
+  const __m128 ego_lo = _mm_load_ps(p.ego_min), ego_hi = _mm_load_ps(p.ego_max);
+#endif
   source([&](float x, float y, float z) ICANC_ALWAYS_INLINE {
     // ROI closed, ego box closed (as prepareCloud). Written as "inside" tests so that NaN (every
     // comparison false) and +-Inf (beyond the finite ROI) fall out without isfinite calls, and
-    // combined with & into one branch: the && chains were a branch per comparison.
+    // combined into one branch: the && chains were a branch per comparison. With SSE2 (every
+    // x86-64) each box is two packed comparisons of (x, y, z, z): 40 % fewer instructions per
+    // point than twelve scalar ones (docs/performance.md).
+#if defined(__SSE2__)
+    const __m128 v = _mm_setr_ps(x, y, z, z);
+    const int in_roi = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, roi_lo), _mm_cmple_ps(v, roi_hi)));
+    const int in_ego = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, ego_lo), _mm_cmple_ps(v, ego_hi)));
+    const int zero = _mm_movemask_ps(_mm_cmpeq_ps(v, _mm_setzero_ps()));
+    if ((in_roi != 0xF) | (zero == 0xF) | (in_ego == 0xF)) return;
+#else
     const bool in_roi = (x >= p.roi_min[0]) & (x <= p.roi_max[0]) & (y >= p.roi_min[1]) &
                         (y <= p.roi_max[1]) & (z >= p.roi_min[2]) & (z <= p.roi_max[2]);
     const bool zero = (x == 0.0f) & (y == 0.0f) & (z == 0.0f);
-    const bool in_ego = p.ego & (x >= p.ego_min[0]) & (x <= p.ego_max[0]) &
-                        (y >= p.ego_min[1]) & (y <= p.ego_max[1]) & (z >= p.ego_min[2]) &
-                        (z <= p.ego_max[2]);
+    const bool in_ego = (x >= p.ego_min[0]) & (x <= p.ego_max[0]) & (y >= p.ego_min[1]) &
+                        (y <= p.ego_max[1]) & (z >= p.ego_min[2]) & (z <= p.ego_max[2]);
     if (!in_roi | zero | in_ego) return;
+#endif
     int cx = static_cast<int>((x - p.roi_min[0]) * p.inv_cell);
     int cy = static_cast<int>((y - p.roi_min[1]) * p.inv_cell);
     if (cx >= p.nx) cx = p.nx - 1;  // a point on the upper ROI boundary
