@@ -122,6 +122,20 @@ std::int32_t VoxelIndex::find(std::uint64_t key) const {
   }
 }
 
+void ColumnVoxelSet::reset(int half) {
+  half_ = std::max(0, half);
+  side_ = static_cast<std::uint32_t>(2 * half_);
+  columns_.assign(static_cast<std::size_t>(side_) * side_, 0);
+  touched_.clear();
+  overflow_.clear();
+}
+
+void ColumnVoxelSet::clear() {
+  for (std::uint32_t c : touched_) columns_[c] = 0;
+  touched_.clear();
+  overflow_.clear();
+}
+
 // --- LidarOdometry -------------------------------------------------------------------------------
 
 LidarOdometry::LidarOdometry(const LidarOdometryParams& params) : params_(params) {
@@ -131,6 +145,15 @@ LidarOdometry::LidarOdometry(const LidarOdometryParams& params) : params_(params
   max_range2_ = static_cast<float>(params.max_range_m * params.max_range_m);
   inv_frame_voxel_ = static_cast<float>(1.0 / (params.voxel_m * params.map_voxel_factor));
   inv_map_voxel_ = static_cast<float>(1.0 / params.voxel_m);
+  // Every frame point lies within max_range_m of the origin: a grid spans that (one voxel more
+  // for rounding) when its masks take at most 4 MB; a finer voxel keeps the hash alone.
+  const auto gridHalf = [&](double inv_voxel) {
+    const double half = std::ceil(params.max_range_m * inv_voxel) + 1.0;
+    return 4.0 * half * half * sizeof(std::uint64_t) <= 4e6 ? static_cast<int>(half) : 0;
+  };
+  frame_voxels_.reset(gridHalf(inv_frame_voxel_));
+  registration_voxels_.reset(
+      gridHalf(1.0 / (params.voxel_m * params.registration_voxel_factor)));
 }
 
 void LidarOdometry::reset() {
@@ -164,15 +187,10 @@ void LidarOdometry::beginFrame(Thinning thinning) {
   last_key_ = ~0ull;
   // Points phase, phase + stride, ... are read (sourcePhase: a different set every frame).
   stride_count_ = stride_ - 1 - static_cast<int>(thinning == Thinning::kBySource ? 0 : sourcePhase());
-  frame_set_.clear();
+  frame_voxels_.clear();
   frame_.clear();
 }
 
-void LidarOdometry::addFramePoint(std::uint64_t key, float x, float y, float z) {
-  bool inserted;
-  frame_set_.findOrInsert(key, 0, inserted);
-  if (inserted) frame_.emplace_back(x, y, z);
-}
 
 namespace {
 // `n` of `from` (n <= size), evenly over the scan order so that every direction keeps points,
@@ -184,15 +202,16 @@ void appendThinned(const std::vector<Eigen::Vector3f>& from, std::size_t n,
 }  // namespace
 
 void LidarOdometry::selectRegistrationPoints() {
-  registration_set_.clear();
+  registration_voxels_.clear();
   candidates_.clear();
   ground_.clear();
   const float inv = static_cast<float>(1.0 / (params_.voxel_m * params_.registration_voxel_factor));
   const float ground_z = static_cast<float>(params_.ground_max_z_m);
   for (const Eigen::Vector3f& p : frame_) {
-    bool inserted;
-    registration_set_.findOrInsert(keyOf(p.x(), p.y(), p.z(), inv), 0, inserted);
-    if (inserted) (p.z() < ground_z ? ground_ : candidates_).push_back(p);
+    const std::int32_t i = floorToInt(p.x() * inv), j = floorToInt(p.y() * inv),
+                       k = floorToInt(p.z() * inv);
+    if (registration_voxels_.insert(i, j, k, packKey(i, j, k)))
+      (p.z() < ground_z ? ground_ : candidates_).push_back(p);
   }
   const std::size_t cap = static_cast<std::size_t>(params_.max_registration_points);
   const std::size_t ground_cap = static_cast<std::size_t>(params_.ground_share * cap);

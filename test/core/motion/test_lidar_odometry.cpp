@@ -40,6 +40,39 @@ LidarOdometryParams testParams() {
   return p;
 }
 
+// The frame's voxel set (a dense grid of z-masks around the sensor, a hash beyond it) answers
+// "new voxel?" exactly as a hash of every voxel does: inside the grid, on its edges, beyond it in
+// x, y and z (the hash part), across clear(), and with no grid at all.
+TEST(ColumnVoxelSet, AnswersAsAHashOfTheSameVoxels) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> ij(-14, 13), k(-40, 40);
+  for (const int half : {10, 0}) {
+    ColumnVoxelSet set;
+    set.reset(half);
+    VoxelIndex reference;
+    int news = 0, repeats = 0, hash_only = 0;
+    for (int frame = 0; frame < 3; ++frame) {
+      set.clear();
+      reference.clear();
+      for (int n = 0; n < 4000; ++n) {
+        const std::int32_t i = ij(rng), j = ij(rng), z = k(rng);
+        const std::uint64_t key = (std::uint64_t(std::uint32_t(i)) << 40) ^
+                                  (std::uint64_t(std::uint32_t(j)) << 20) ^ std::uint32_t(z + 64);
+        bool inserted;
+        reference.findOrInsert(key, 0, inserted);
+        ASSERT_EQ(set.insert(i, j, z, key), inserted) << half << ": " << i << " " << j << " " << z;
+        news += inserted;
+        repeats += !inserted;
+        hash_only += inserted && (std::abs(i + 0.5) > half || std::abs(j + 0.5) > half ||
+                                  z < -32 || z >= 32);
+      }
+    }
+    EXPECT_GT(news, 3000) << half;      // both answers occur,
+    EXPECT_GT(repeats, 100) << half;
+    EXPECT_GT(hash_only, 1000) << half;  // and many voxels lie beyond the grid
+  }
+}
+
 TEST(LidarOdometry, RecoversAStraightThenTurningPath) {
   const sim::Scene scene = street();
   LidarOdometry odometry(testParams());

@@ -161,6 +161,43 @@ class VoxelIndex {
   int shift_ = 64;
 };
 
+// The voxels one frame holds, around the sensor, for "the first point of each voxel": a dense
+// grid of columns (x and y within `half` voxels of the origin) of 64-bit masks over the voxels
+// z = -32 .. 31, the rest in a VoxelIndex. A scan visits neighbouring voxels one after another;
+// a hash scatters them over its table, and its lookups (one per voxel change along the scan, a
+// cache miss each) were 0.5 ms of a KITTI frame's 2.3 ms. Cleared through the columns it touched.
+class ColumnVoxelSet {
+ public:
+  // half: columns on each side of the origin along x and y; 0: every voxel in the hash.
+  void reset(int half);
+  void clear();
+  // Adds voxel (i, j, k) (`key`: packKey of it); true when it was not in the set.
+  bool insert(std::int32_t i, std::int32_t j, std::int32_t k, std::uint64_t key) {
+    const std::uint32_t ci = static_cast<std::uint32_t>(i + half_);  // a negative one wraps
+    const std::uint32_t cj = static_cast<std::uint32_t>(j + half_);  // past side_
+    const std::uint32_t ck = static_cast<std::uint32_t>(k + 32);
+    if (ci < side_ && cj < side_ && ck < 64u) {
+      const std::uint32_t c = cj * side_ + ci;
+      std::uint64_t& column = columns_[c];
+      const std::uint64_t bit = std::uint64_t{1} << ck;
+      if (column & bit) return false;
+      if (column == 0) touched_.push_back(c);
+      column |= bit;
+      return true;
+    }
+    bool inserted;
+    overflow_.findOrInsert(key, 0, inserted);
+    return inserted;
+  }
+
+ private:
+  std::int32_t half_ = 0;
+  std::uint32_t side_ = 0;
+  std::vector<std::uint64_t> columns_;
+  std::vector<std::uint32_t> touched_;
+  VoxelIndex overflow_;
+};
+
 class LidarOdometry {
  public:
   // Throws std::invalid_argument when `params` is invalid.
@@ -226,12 +263,13 @@ class LidarOdometry {
     }
     const float r2 = x * x + y * y + z * z;
     if (!(r2 >= min_range2_ && r2 <= max_range2_)) return;
-    const std::uint64_t key = keyOf(x, y, z, inv_frame_voxel_);
+    const std::int32_t i = floorToInt(x * inv_frame_voxel_), j = floorToInt(y * inv_frame_voxel_),
+                       k = floorToInt(z * inv_frame_voxel_);
+    const std::uint64_t key = packKey(i, j, k);
     if (key == last_key_) return;  // scan order: neighbours share voxels, most points stop here
     last_key_ = key;
-    addFramePoint(key, x, y, z);
+    if (frame_voxels_.insert(i, j, k, key)) frame_.emplace_back(x, y, z);
   }
-  void addFramePoint(std::uint64_t key, float x, float y, float z);
   Eigen::Isometry3d finishFrame(double stamp_s, double downsample_start_ms);
 
   // floor as a truncation and a correction: std::floor is a libm call per coordinate on plain
@@ -283,7 +321,8 @@ class LidarOdometry {
   std::size_t input_points_ = 0;
   std::uint64_t last_key_ = ~0ull;
   int stride_ = 1, stride_count_ = 0;
-  VoxelIndex frame_set_, registration_set_;
+  ColumnVoxelSet frame_voxels_;         // this frame's map-resolution voxels
+  ColumnVoxelSet registration_voxels_;  // ... and registration-resolution ones
   std::vector<Eigen::Vector3f> frame_;         // map-resolution points, base frame
   std::vector<Eigen::Vector3f> registration_;  // registration points, base frame
   std::vector<Eigen::Vector3f> candidates_;    // registration candidates above it
