@@ -191,7 +191,6 @@ void LidarOdometry::beginFrame(Thinning thinning) {
   frame_.clear();
 }
 
-
 namespace {
 // `n` of `from` (n <= size), evenly over the scan order so that every direction keeps points,
 // appended to `to`.

@@ -333,8 +333,8 @@ void FastDetector::detectFrom(Source&& source, std::vector<Box3D>& boxes, FastSt
     // ROI closed, ego box closed (as prepareCloud). Written as "inside" tests so that NaN (every
     // comparison false) and +-Inf (beyond the finite ROI) fall out without isfinite calls, and
     // combined into one branch: the && chains were a branch per comparison. With SSE2 (every
-    // x86-64) each box is two packed comparisons of (x, y, z, z): 40 % fewer instructions per
-    // point than twelve scalar ones (docs/performance.md).
+    // x86-64) each box is two packed comparisons of (x, y, z, z), not six scalar ones: pass 1 of
+    // a KITTI frame 1.27 -> 0.68 ms (docs/performance.md).
 #if defined(__SSE2__)
     const __m128 v = _mm_setr_ps(x, y, z, z);
     const int in_roi = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, roi_lo), _mm_cmple_ps(v, roi_hi)));
