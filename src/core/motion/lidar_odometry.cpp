@@ -207,9 +207,7 @@ void LidarOdometry::selectRegistrationPoints() {
   const float inv = static_cast<float>(1.0 / (params_.voxel_m * params_.registration_voxel_factor));
   const float ground_z = static_cast<float>(params_.ground_max_z_m);
   for (const Eigen::Vector3f& p : frame_) {
-    const std::int32_t i = floorToInt(p.x() * inv), j = floorToInt(p.y() * inv),
-                       k = floorToInt(p.z() * inv);
-    if (registration_voxels_.insert(i, j, k, packKey(i, j, k)))
+    if (registration_voxels_.insert(voxelOf(p.x(), p.y(), p.z(), inv)))
       (p.z() < ground_z ? ground_ : candidates_).push_back(p);
   }
   const std::size_t cap = static_cast<std::size_t>(params_.max_registration_points);
@@ -510,7 +508,7 @@ void LidarOdometry::updateMap(const Eigen::Isometry3d& pose) {
   std::int32_t last_slot = -1;
   for (const Eigen::Vector3f& p : frame_) {
     const Eigen::Vector3f q = r * p + t;
-    const std::uint64_t key = keyOf(q.x(), q.y(), q.z(), inv_map_voxel_);
+    const std::uint64_t key = voxelOf(q.x(), q.y(), q.z(), inv_map_voxel_).key;
     std::int32_t slot = last_slot;
     if (key != last_key) {  // scan order: consecutive points often share a map voxel
       bool inserted;

@@ -60,7 +60,7 @@ TEST(ColumnVoxelSet, AnswersAsAHashOfTheSameVoxels) {
                                   (std::uint64_t(std::uint32_t(j)) << 20) ^ std::uint32_t(z + 64);
         bool inserted;
         reference.findOrInsert(key, 0, inserted);
-        ASSERT_EQ(set.insert(i, j, z, key), inserted) << half << ": " << i << " " << j << " " << z;
+        ASSERT_EQ(set.insert({i, j, z, key}), inserted) << half << ": " << i << " " << j << " " << z;
         news += inserted;
         repeats += !inserted;
         hash_only += inserted && (std::abs(i + 0.5) > half || std::abs(j + 0.5) > half ||

@@ -573,8 +573,7 @@ TEST(FastDetector, PassOneKeepsWhatPrepareCloudKeeps) {
     Cloud ground, obstacles;
     detector.splitPoints(ground, obstacles);
     EXPECT_EQ(detector.keptPoints(), prepared.size());
-    // Point by point: every kept point is one prepareCloud kept (ground, obstacles and what lies
-    // above max_height_m together are all of them only when nothing was left out).
+    // Point by point: every point of the split (ground and obstacles) is one prepareCloud kept.
     EXPECT_GT(prepared.size(), 100u);
     for (const Cloud* part : {&ground, &obstacles})
       for (const Point& p : part->points)

@@ -166,16 +166,22 @@ class VoxelIndex {
 // z = -32 .. 31, the rest in a VoxelIndex. A scan visits neighbouring voxels one after another;
 // a hash scatters them over its table, and its lookups (one per voxel change along the scan, a
 // cache miss each) were 0.5 ms of a KITTI frame's 2.3 ms. Cleared through the columns it touched.
+// A voxel's indices along x, y, z and their packed key (LidarOdometry::voxelOf).
+struct VoxelCoord {
+  std::int32_t i, j, k;
+  std::uint64_t key;
+};
+
 class ColumnVoxelSet {
  public:
   // half: columns on each side of the origin along x and y; 0: every voxel in the hash.
   void reset(int half);
   void clear();
-  // Adds voxel (i, j, k) (`key`: packKey of it); true when it was not in the set.
-  bool insert(std::int32_t i, std::int32_t j, std::int32_t k, std::uint64_t key) {
-    const std::uint32_t ci = static_cast<std::uint32_t>(i + half_);  // a negative one wraps
-    const std::uint32_t cj = static_cast<std::uint32_t>(j + half_);  // past side_
-    const std::uint32_t ck = static_cast<std::uint32_t>(k + 32);
+  // Adds the voxel; true when it was not in the set.
+  bool insert(const VoxelCoord& v) {
+    const std::uint32_t ci = static_cast<std::uint32_t>(v.i + half_);  // a negative one wraps
+    const std::uint32_t cj = static_cast<std::uint32_t>(v.j + half_);  // past side_
+    const std::uint32_t ck = static_cast<std::uint32_t>(v.k + 32);
     if (ci < side_ && cj < side_ && ck < 64u) {
       const std::uint32_t c = cj * side_ + ci;
       std::uint64_t& column = columns_[c];
@@ -186,7 +192,7 @@ class ColumnVoxelSet {
       return true;
     }
     bool inserted;
-    overflow_.findOrInsert(key, 0, inserted);
+    overflow_.findOrInsert(v.key, 0, inserted);
     return inserted;
   }
 
@@ -263,12 +269,10 @@ class LidarOdometry {
     }
     const float r2 = x * x + y * y + z * z;
     if (!(r2 >= min_range2_ && r2 <= max_range2_)) return;
-    const std::int32_t i = floorToInt(x * inv_frame_voxel_), j = floorToInt(y * inv_frame_voxel_),
-                       k = floorToInt(z * inv_frame_voxel_);
-    const std::uint64_t key = packKey(i, j, k);
-    if (key == last_key_) return;  // scan order: neighbours share voxels, most points stop here
-    last_key_ = key;
-    if (frame_voxels_.insert(i, j, k, key)) frame_.emplace_back(x, y, z);
+    const VoxelCoord voxel = voxelOf(x, y, z, inv_frame_voxel_);
+    if (voxel.key == last_key_) return;  // scan order: neighbours share voxels, most stop here
+    last_key_ = voxel.key;
+    if (frame_voxels_.insert(voxel)) frame_.emplace_back(x, y, z);
   }
   Eigen::Isometry3d finishFrame(double stamp_s, double downsample_start_ms);
 
@@ -278,8 +282,10 @@ class LidarOdometry {
     const std::int32_t i = static_cast<std::int32_t>(v);
     return i - (v < static_cast<float>(i) ? 1 : 0);
   }
-  static std::uint64_t keyOf(float x, float y, float z, float inv_voxel) {
-    return packKey(floorToInt(x * inv_voxel), floorToInt(y * inv_voxel), floorToInt(z * inv_voxel));
+  static VoxelCoord voxelOf(float x, float y, float z, float inv_voxel) {
+    VoxelCoord v{floorToInt(x * inv_voxel), floorToInt(y * inv_voxel), floorToInt(z * inv_voxel), 0};
+    v.key = packKey(v.i, v.j, v.k);
+    return v;
   }
   static std::uint64_t packKey(std::int32_t i, std::int32_t j, std::int32_t k) {
     const std::uint64_t m = (1u << 21) - 1;
