@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace icanc {
 
@@ -126,13 +130,14 @@ void ColumnVoxelSet::reset(int half) {
   half_ = std::max(0, half);
   side_ = static_cast<std::uint32_t>(2 * half_);
   columns_.assign(static_cast<std::size_t>(side_) * side_, 0);
-  touched_.clear();
+  touched_.assign(columns_.size(), 0);
+  touched_count_ = 0;
   overflow_.clear();
 }
 
 void ColumnVoxelSet::clear() {
-  for (std::uint32_t c : touched_) columns_[c] = 0;
-  touched_.clear();
+  for (std::uint32_t t = 0; t < touched_count_; ++t) columns_[touched_[t]] = 0;
+  touched_count_ = 0;
   overflow_.clear();
 }
 
@@ -184,11 +189,10 @@ Eigen::Isometry3d LidarOdometry::registerFrame(double stamp_s,
 void LidarOdometry::beginFrame(Thinning thinning) {
   input_points_ = 0;
   stride_ = thinning == Thinning::kBySource ? 1 : params_.input_stride;
-  last_key_ = ~0ull;
   // Points phase, phase + stride, ... are read (sourcePhase: a different set every frame).
   stride_count_ = stride_ - 1 - static_cast<int>(thinning == Thinning::kBySource ? 0 : sourcePhase());
   frame_voxels_.clear();
-  frame_.clear();
+  frame_count_ = 0;
 }
 
 namespace {
@@ -202,14 +206,22 @@ void appendThinned(const std::vector<Eigen::Vector3f>& from, std::size_t n,
 
 void LidarOdometry::selectRegistrationPoints() {
   registration_voxels_.clear();
-  candidates_.clear();
-  ground_.clear();
   const float inv = static_cast<float>(1.0 / (params_.voxel_m * params_.registration_voxel_factor));
   const float ground_z = static_cast<float>(params_.ground_max_z_m);
+  // Without a branch on the point, as in addPoint: written to both, counted in one.
+  candidates_.resize(frame_.size() + 1);
+  ground_.resize(frame_.size() + 1);
+  std::size_t n_candidates = 0, n_low = 0;
   for (const Eigen::Vector3f& p : frame_) {
-    if (registration_voxels_.insert(voxelOf(p.x(), p.y(), p.z(), inv)))
-      (p.z() < ground_z ? ground_ : candidates_).push_back(p);
+    const bool first = registration_voxels_.insert(voxelOf(p.x(), p.y(), p.z(), inv));
+    const bool low = p.z() < ground_z;
+    candidates_[n_candidates] = p;
+    ground_[n_low] = p;
+    n_candidates += first & !low;
+    n_low += first & low;
   }
+  candidates_.resize(n_candidates);
+  ground_.resize(n_low);
   const std::size_t cap = static_cast<std::size_t>(params_.max_registration_points);
   const std::size_t ground_cap = static_cast<std::size_t>(params_.ground_share * cap);
   // The ground fills its share, and what the rest of the scene leaves free.
@@ -274,6 +286,53 @@ void LidarOdometry::findBlock(const std::int32_t base[3], std::int32_t voxels[8]
     voxels[c] = map_index_.find(packKey(base[0] + (c & 1), base[1] + ((c >> 1) & 1), base[2] + ((c >> 2) & 1)));
 }
 
+int nearestPacked(const float* xs, int count, std::size_t stride, const Eigen::Vector3f& s,
+                  float& best) {
+  // Eigen's squaredNorm of a 3-vector sums as x^2 + (y^2 + z^2); so does this, so that the match
+  // is the same point, bit for bit.
+#if defined(__SSE2__)
+  const __m128 sx = _mm_set1_ps(s.x()), sy = _mm_set1_ps(s.y()), sz = _mm_set1_ps(s.z());
+  __m128 lane_best = _mm_set1_ps(best);
+  __m128i lane_index = _mm_set1_epi32(-1), index = _mm_setr_epi32(0, 1, 2, 3);
+  const __m128i four = _mm_set1_epi32(4);
+  for (int j = 0; j < count; j += 4) {
+    const __m128 dx = _mm_sub_ps(_mm_loadu_ps(xs + j), sx);
+    const __m128 dy = _mm_sub_ps(_mm_loadu_ps(xs + j + stride), sy);
+    const __m128 dz = _mm_sub_ps(_mm_loadu_ps(xs + j + 2 * stride), sz);
+    const __m128 d2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_add_ps(_mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)));
+    const __m128i nearer = _mm_castps_si128(_mm_cmplt_ps(d2, lane_best));  // strictly: the first
+    lane_best = _mm_min_ps(d2, lane_best);
+    lane_index = _mm_or_si128(_mm_and_si128(nearer, index), _mm_andnot_si128(nearer, lane_index));
+    index = _mm_add_epi32(index, four);
+  }
+  alignas(16) float lanes[4];
+  alignas(16) std::int32_t indices[4];
+  _mm_store_ps(lanes, lane_best);
+  _mm_store_si128(reinterpret_cast<__m128i*>(indices), lane_index);
+  int k = -1;
+  for (int l = 0; l < 4; ++l) {  // the least distance; of equal ones, the first point
+    if (indices[l] < 0) continue;
+    if (k < 0 || lanes[l] < best || (lanes[l] == best && indices[l] < k)) {
+      best = lanes[l];
+      k = indices[l];
+    }
+  }
+  return k;
+#else
+  int k = -1;
+  for (int j = 0; j < count; ++j) {
+    const float dx = xs[j] - s.x(), dy = xs[j + stride] - s.y(),
+                dz = xs[j + 2 * stride] - s.z();
+    const float d2 = dx * dx + (dy * dy + dz * dz);
+    if (d2 < best) {
+      best = d2;
+      k = j;
+    }
+  }
+  return k;
+#endif
+}
+
 bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
                                  Eigen::Isometry3d& result, const Eigen::Vector3d* held) {
   slid_ = false;
@@ -292,6 +351,8 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   const bool point_to_plane = params_.point_to_plane;
   const std::size_t n = registration_.size();
   neighbourhoods_.resize(n);
+  block_stride_ = 8 * static_cast<std::size_t>(per_voxel);
+  block_points_.resize(n * 3 * block_stride_);
   for (Neighbourhood& nb : neighbourhoods_) nb.block = ~0ull;
 
   Eigen::Matrix3d rotation = guess.rotation();
@@ -325,22 +386,29 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       if (block != nb.block) {
         nb.block = block;
         findBlock(base, nb.voxels);
+        // Its points side by side (x, then y, then z), padded to whole packets with points at
+        // infinity: the search over them then has no branch per voxel.
+        nb.xs = &block_points_[i * 3 * block_stride_];
+        nb.count = 0;
+        for (const std::int32_t slot : nb.voxels) {
+          if (slot < 0) continue;
+          const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
+          for (int j = 0, m = map_counts_[slot]; j < m; ++j, ++nb.count) {
+            nb.xs[nb.count] = q[j].x();
+            nb.xs[nb.count + block_stride_] = q[j].y();
+            nb.xs[nb.count + 2 * block_stride_] = q[j].z();
+          }
+        }
+        for (int j = nb.count; j % 4 != 0; ++j)
+          nb.xs[j] = nb.xs[j + block_stride_] = nb.xs[j + 2 * block_stride_] =
+              std::numeric_limits<float>::infinity();
         nb.planar = point_to_plane && fitPlane(nb.voxels, nb.normal);
       }
       float best = max_d2;
-      const Eigen::Vector3f* nearest = nullptr;
-      for (int c = 0; c < 8; ++c) {
-        const std::int32_t slot = nb.voxels[c];
-        if (slot < 0) continue;
-        const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
-        for (int j = 0, m = map_counts_[slot]; j < m; ++j) {
-          const float d2 = (q[j] - s).squaredNorm();
-          if (d2 < best) {
-            best = d2;
-            nearest = &q[j];
-          }
-        }
-      }
+      const int k = nearestPacked(nb.xs, nb.count, block_stride_, s, best);
+      if (k < 0) continue;
+      const Eigen::Vector3f nearest_point(nb.xs[k], nb.xs[k + block_stride_], nb.xs[k + 2 * block_stride_]);
+      const Eigen::Vector3f* nearest = &nearest_point;
       if (!nearest) continue;
       ++matched;
       const Eigen::Vector3d ad = a.cast<double>();
@@ -360,7 +428,11 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       sw += w;
       swa += w * ad;
       swa2 += w * ad.squaredNorm();
-      swaa += w * ad * ad.transpose();
+      // Element by element: Eigen's outer product here went through a temporary on the stack
+      // whose packed reload stalled on its scalar stores. Same products, same sums.
+      const Eigen::Vector3d wa = w * ad;
+      for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < 3; ++a) swaa(a, b) += wa(a) * ad(b);
       swr += w * res;
       swaxr += w * ad.cross(res);
     }
@@ -461,15 +533,20 @@ double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, flo
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   std::size_t used = 0;
   Eigen::Vector3f block_points[8 * kMaxPointsPerVoxel];
-  for (const Eigen::Vector3f& p : registration_) {
-    const Eigen::Vector3f s = r * p + t;
-    // The voxels registerScan searches around s: its match and the neighbours the plane is fitted to.
-    std::int32_t base[3], voxels[8];
-    blockCorner(s, base);
-    findBlock(base, voxels);
+  for (std::size_t i = 0; i < registration_.size(); ++i) {
+    const Eigen::Vector3f s = r * registration_[i] + t;
+    // The voxels registerScan searches around s: its match and the neighbours the plane is fitted
+    // to. The last iteration's, unless its step moved s into another block.
+    std::int32_t base[3], found[8];
+    const std::int32_t* voxels = neighbourhoods_[i].voxels;
+    if (blockCorner(s, base) != neighbourhoods_[i].block) {
+      findBlock(base, found);
+      voxels = found;
+    }
     int count = 0;
     float best = max_d2;
-    for (const std::int32_t slot : voxels) {
+    for (int c = 0; c < 8; ++c) {
+      const std::int32_t slot = voxels[c];
       if (slot < 0) continue;
       const Eigen::Vector3f* q = &map_points_data_[static_cast<std::size_t>(slot) * per_voxel];
       for (int j = 0, m = map_counts_[slot]; j < m; ++j) {
@@ -481,12 +558,22 @@ double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, flo
     Eigen::Vector3f mean = Eigen::Vector3f::Zero();
     for (int j = 0; j < count; ++j) mean += block_points[j];
     mean /= static_cast<float>(count);
-    Eigen::Matrix3f cov = Eigen::Matrix3f::Zero();
+    // The six sums as scalars: Eigen's `cov += d * d.transpose()` goes through a temporary on the
+    // stack whose packed reload stalls on the scalar stores (two thirds of this function's time).
+    float xx = 0.0f, xy = 0.0f, xz = 0.0f, yy = 0.0f, yz = 0.0f, zz = 0.0f;
     for (int j = 0; j < count; ++j) {
       const Eigen::Vector3f d = block_points[j] - mean;
-      cov += d * d.transpose();
+      xx += d.x() * d.x();
+      xy += d.x() * d.y();
+      xz += d.x() * d.z();
+      yy += d.y() * d.y();
+      yz += d.y() * d.z();
+      zz += d.z() * d.z();
     }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig(cov);
+    Eigen::Matrix3f cov;
+    cov << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig;
+    eig.computeDirect(cov);
     const Eigen::Vector3d n = eig.eigenvectors().col(0).cast<double>();  // smallest spread: normal
     info += n * n.transpose();
     ++used;
@@ -569,6 +656,7 @@ std::vector<Eigen::Vector3f> LidarOdometry::mapCloud() const {
 }
 
 Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_start_ms) {
+  frame_.resize(frame_count_);
   ++counters_.frames;
   stats_ = LidarOdometryStats();
   stats_.input_points = input_points_;

@@ -58,6 +58,9 @@ TEST(ColumnVoxelSet, AnswersAsAHashOfTheSameVoxels) {
         const std::int32_t i = ij(rng), j = ij(rng), z = k(rng);
         const std::uint64_t key = (std::uint64_t(std::uint32_t(i)) << 40) ^
                                   (std::uint64_t(std::uint32_t(j)) << 20) ^ std::uint32_t(z + 64);
+        // A point the caller does not keep (out of range) is never new and sets nothing.
+        const std::int32_t oi = ij(rng), oj = ij(rng), oz = k(rng);
+        ASSERT_FALSE(set.insert({oi, oj, oz, (std::uint64_t(std::uint32_t(oi)) << 40) ^ 1u}, false));
         bool inserted;
         reference.findOrInsert(key, 0, inserted);
         ASSERT_EQ(set.insert({i, j, z, key}), inserted) << half << ": " << i << " " << j << " " << z;
@@ -71,6 +74,54 @@ TEST(ColumnVoxelSet, AnswersAsAHashOfTheSameVoxels) {
     EXPECT_GT(repeats, 100) << half;
     EXPECT_GT(hash_only, 1000) << half;  // and many voxels lie beyond the grid
   }
+}
+
+// The packed search finds the match the plain loop over Eigen vectors finds, bit for bit: the
+// first of the nearest (duplicates and equal distances included), none at or beyond the limit,
+// whatever the count's remainder of 4 and with nothing to search.
+TEST(NearestPacked, FindsThePointTheLoopFinds) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coord(-2.0f, 2.0f);
+  constexpr std::size_t kStride = 32;
+  int found = 0, none = 0, ties = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int count = trial % 33;
+    std::vector<Eigen::Vector3f> points;
+    for (int j = 0; j < count; ++j) {
+      // Points on a 0.25 m lattice a quarter of the time: equal distances occur.
+      Eigen::Vector3f q(coord(rng), coord(rng), coord(rng));
+      if (trial % 4 == 0) q = (q * 4.0f).array().round() / 4.0f;
+      if (j > 0 && trial % 7 == 0) q = points[rng() % j];  // a duplicate
+      points.push_back(q);
+    }
+    std::vector<float> xs(3 * kStride, std::numeric_limits<float>::infinity());
+    for (int j = 0; j < count; ++j)
+      for (int a = 0; a < 3; ++a) xs[a * kStride + j] = points[j][a];
+    Eigen::Vector3f s(coord(rng), coord(rng), coord(rng));
+    if (trial % 4 == 0) s = (s * 4.0f).array().round() / 4.0f;
+    const float limit = trial % 3 == 0 ? 0.5f : 100.0f;
+    float expected_best = limit;
+    int expected = -1, equal = 0;
+    for (int j = 0; j < count; ++j) {
+      const float d2 = (points[j] - s).squaredNorm();
+      equal += d2 == expected_best;
+      if (d2 < expected_best) {
+        expected_best = d2;
+        expected = j;
+        equal = 0;
+      }
+    }
+    float best = limit;
+    const int k = nearestPacked(xs.data(), count, kStride, s, best);
+    ASSERT_EQ(k, expected) << "trial " << trial;
+    ASSERT_EQ(best, expected_best) << "trial " << trial;
+    found += k >= 0;
+    none += k < 0;
+    ties += k >= 0 && equal > 0;
+  }
+  EXPECT_GT(found, 5000);  // every case occurs
+  EXPECT_GT(none, 1000);
+  EXPECT_GT(ties, 100);
 }
 
 TEST(LidarOdometry, RecoversAStraightThenTurningPath) {

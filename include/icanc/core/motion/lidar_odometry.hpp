@@ -177,20 +177,23 @@ class ColumnVoxelSet {
   // half: columns on each side of the origin along x and y; 0: every voxel in the hash.
   void reset(int half);
   void clear();
-  // Adds the voxel; true when it was not in the set.
-  bool insert(const VoxelCoord& v) {
+  // Adds the voxel when `keep`; true when it was kept and not in the set. Inside the grid without
+  // a branch on the point: a scan's voxel changes are too irregular to predict, and the
+  // mispredictions were most of the odometry's reading time.
+  bool insert(const VoxelCoord& v, bool keep = true) {
     const std::uint32_t ci = static_cast<std::uint32_t>(v.i + half_);  // a negative one wraps
     const std::uint32_t cj = static_cast<std::uint32_t>(v.j + half_);  // past side_
     const std::uint32_t ck = static_cast<std::uint32_t>(v.k + 32);
     if (ci < side_ && cj < side_ && ck < 64u) {
       const std::uint32_t c = cj * side_ + ci;
-      std::uint64_t& column = columns_[c];
-      const std::uint64_t bit = std::uint64_t{1} << ck;
-      if (column & bit) return false;
-      if (column == 0) touched_.push_back(c);
-      column |= bit;
-      return true;
+      const std::uint64_t bit = static_cast<std::uint64_t>(keep) << ck;
+      const std::uint64_t old = columns_[c];
+      columns_[c] = old | bit;
+      touched_[touched_count_] = c;  // kept when the column was empty
+      touched_count_ += static_cast<std::uint32_t>((old == 0) & (bit != 0));
+      return ((old & bit) == 0) & keep;
     }
+    if (!keep) return false;
     bool inserted;
     overflow_.findOrInsert(v.key, 0, inserted);
     return inserted;
@@ -200,9 +203,17 @@ class ColumnVoxelSet {
   std::int32_t half_ = 0;
   std::uint32_t side_ = 0;
   std::vector<std::uint64_t> columns_;
-  std::vector<std::uint32_t> touched_;
+  std::vector<std::uint32_t> touched_;  // one per column: the first touched_count_ are set
+  std::uint32_t touched_count_ = 0;
   VoxelIndex overflow_;
 };
+
+// Of the points x = xs[j], y = xs[stride + j], z = xs[2 * stride + j] (j < count, the arrays
+// padded with +inf to a whole multiple of 4), the first nearest to s strictly nearer than
+// sqrt(best): its index, `best` set to its squared distance, the same bits as Eigen's
+// (q - s).squaredNorm(); -1 when none is. Four at a time where SSE2 is.
+int nearestPacked(const float* xs, int count, std::size_t stride, const Eigen::Vector3f& s,
+                  float& best);
 
 class LidarOdometry {
  public:
@@ -263,16 +274,16 @@ class LidarOdometry {
     ++input_points_;
     if (++stride_count_ < stride_) return;
     stride_count_ = 0;
-    if (!std::isfinite(x + y + z)) {
-      ++counters_.nonfinite_points;
-      return;
-    }
-    const float r2 = x * x + y * y + z * z;
-    if (!(r2 >= min_range2_ && r2 <= max_range2_)) return;
-    const VoxelCoord voxel = voxelOf(x, y, z, inv_frame_voxel_);
-    if (voxel.key == last_key_) return;  // scan order: neighbours share voxels, most stop here
-    last_key_ = voxel.key;
-    if (frame_voxels_.insert(voxel)) frame_.emplace_back(x, y, z);
+    counters_.nonfinite_points += !std::isfinite(x + y + z);
+    const float r2 = x * x + y * y + z * z;  // NaN or inf: out of range
+    const bool keep = (r2 >= min_range2_) & (r2 <= max_range2_);
+    // Without a branch on the point (ColumnVoxelSet::insert): a point out of range is written
+    // past the end and not counted; its voxel is taken at the origin (finite, and not set).
+    const VoxelCoord voxel =
+        voxelOf(keep ? x : 0.0f, keep ? y : 0.0f, keep ? z : 0.0f, inv_frame_voxel_);
+    if (frame_count_ == frame_.size()) frame_.resize(2 * frame_.size() + 4096);
+    frame_[frame_count_] = Eigen::Vector3f(x, y, z);
+    frame_count_ += frame_voxels_.insert(voxel, keep);
   }
   Eigen::Isometry3d finishFrame(double stamp_s, double downsample_start_ms);
 
@@ -325,7 +336,7 @@ class LidarOdometry {
 
   // This frame.
   std::size_t input_points_ = 0;
-  std::uint64_t last_key_ = ~0ull;
+  std::size_t frame_count_ = 0;  // frame_'s points while reading (its size is the buffer's)
   int stride_ = 1, stride_count_ = 0;
   ColumnVoxelSet frame_voxels_;         // this frame's map-resolution voxels
   ColumnVoxelSet registration_voxels_;  // ... and registration-resolution ones
@@ -338,12 +349,18 @@ class LidarOdometry {
   struct Neighbourhood {
     std::uint64_t block = ~0ull;
     std::int32_t voxels[8];
+    // Its map points in voxel order, in block_points_: x at xs[0 .. count), y at
+    // xs[block_stride_ ..], z at xs[2 * block_stride_ ..]; padded to a multiple of 4 with infinity.
+    float* xs = nullptr;
+    int count = 0;
     Eigen::Vector3f normal;  // of the block's map points when they are planar (point_to_plane)
     bool planar = false;
   };
   // The plane of the block's map points: false when fewer than 5 or not planar.
   bool fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& normal) const;
   std::vector<Neighbourhood> neighbourhoods_;
+  std::size_t block_stride_ = 0;      // 8 * max_points_per_voxel (whole packets of 4)
+  std::vector<float> block_points_;  // 3 * block_stride_ per registration point
   bool slid_ = false;
   Eigen::Vector3d weakest_ = Eigen::Vector3d::UnitX();
   double across_observability_ = 0.0;
