@@ -130,7 +130,7 @@ void ColumnVoxelSet::reset(int half) {
   half_ = std::max(0, half);
   side_ = static_cast<std::uint32_t>(2 * half_);
   columns_.assign(static_cast<std::size_t>(side_) * side_, 0);
-  touched_.assign(columns_.size(), 0);
+  touched_.assign(columns_.size() + 1, 0);  // insert writes one past the columns set so far
   touched_count_ = 0;
   overflow_.clear();
 }

@@ -203,7 +203,7 @@ class ColumnVoxelSet {
   std::int32_t half_ = 0;
   std::uint32_t side_ = 0;
   std::vector<std::uint64_t> columns_;
-  std::vector<std::uint32_t> touched_;  // one per column: the first touched_count_ are set
+  std::vector<std::uint32_t> touched_;  // one per column and one more: the first touched_count_ are set
   std::uint32_t touched_count_ = 0;
   VoxelIndex overflow_;
 };
