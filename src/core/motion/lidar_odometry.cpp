@@ -407,12 +407,10 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       float best = max_d2;
       const int k = nearestPacked(nb.xs, nb.count, block_stride_, s, best);
       if (k < 0) continue;
-      const Eigen::Vector3f nearest_point(nb.xs[k], nb.xs[k + block_stride_], nb.xs[k + 2 * block_stride_]);
-      const Eigen::Vector3f* nearest = &nearest_point;
-      if (!nearest) continue;
+      const Eigen::Vector3f nearest(nb.xs[k], nb.xs[k + block_stride_], nb.xs[k + 2 * block_stride_]);
       ++matched;
       const Eigen::Vector3d ad = a.cast<double>();
-      const Eigen::Vector3d res = (s - *nearest).cast<double>();
+      const Eigen::Vector3d res = (s - nearest).cast<double>();
       if (nb.planar) {  // r = n.(s - q), J = [n, a x n]
         const Eigen::Vector3d nd = nb.normal.cast<double>();
         const double r = nd.dot(res);
@@ -428,11 +426,7 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
       sw += w;
       swa += w * ad;
       swa2 += w * ad.squaredNorm();
-      // Element by element: Eigen's outer product here went through a temporary on the stack
-      // whose packed reload stalled on its scalar stores. Same products, same sums.
-      const Eigen::Vector3d wa = w * ad;
-      for (int b = 0; b < 3; ++b)
-        for (int a = 0; a < 3; ++a) swaa(a, b) += wa(a) * ad(b);
+      swaa += w * ad * ad.transpose();
       swr += w * res;
       swaxr += w * ad.cross(res);
     }
