@@ -281,6 +281,10 @@ Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
 // params.occlusion_gap_deg, the same along an axis where a face of the detection ends beside a
 // nearer object. `detections` are the frame's, `spans` the same seen from the sensor, `matched`
 // the index of `detection` among them.
+// The least extent jump read as a merge of an object whose faces are followed: a thin wall's
+// measured depth is a few centimetres, its face's noise between frames about a tenth of a metre.
+constexpr float kMinDepthJumpM = 0.15f;
+
 Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
                                     const Eigen::Vector3d& predicted_reference,
                                     float face_axes_yaw, const TrackerParams& params,
@@ -320,9 +324,16 @@ Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predict
                       : faceValue(det, axis, face) - faceValue(pred, axis, face);
     if (params.anchor == TrackAnchor::kNearestFace && params.face_jump_m > 0.0f) {
       // The extent jumped (a merge or a split with what stands close): the face that stayed, when
-      // neither box has it at the region's edge.
+      // neither box has it at the region's edge. A jump is face_jump_m, or less for a thin or small
+      // object (its extent along the axis without what joined it or before it came apart, the
+      // thinner of the two boxes): more than that depth (at least kMinDepthJumpM) where its faces
+      // are followed (a wall taking in the walker beside it), more than half of it where it is
+      // seen whole (a pedestrian taking in the post beside it).
       const Eigen::Vector2f dir = axes.row(axis).transpose();
-      if (std::abs(hi - lo) > params.face_jump_m && !atRegionEdge(det.lo_at[axis], -dir, view) &&
+      const float thinner = std::min(det.hi[axis] - det.lo[axis], pred.hi[axis] - pred.lo[axis]);
+      const float jump = std::min(params.face_jump_m,
+                                  faces ? std::max(kMinDepthJumpM, thinner) : 0.5f * thinner);
+      if (std::abs(hi - lo) > jump && !atRegionEdge(det.lo_at[axis], -dir, view) &&
           !atRegionEdge(pred.lo_at[axis], -dir, view) &&
           !atRegionEdge(det.hi_at[axis], dir, view) && !atRegionEdge(pred.hi_at[axis], dir, view))
         moved[axis] = steadier;

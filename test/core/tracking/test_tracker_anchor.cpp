@@ -178,6 +178,48 @@ TEST(TrackerAnchor, AJumpOfTheExtentIsNotMotion) {
   EXPECT_LT(worst_car, 0.5);
 }
 
+// mount_robot16_clutter through the fast path (the Zebra ships it): the same wall, 0.08 m deep as
+// the 16-beam unit sees it, whose young track takes in the walker beside it for one frame: its
+// face toward the sensor jumps 0.24 m, under face_jump_m (0.4) but three times the wall's own
+// depth, which no wall does between two frames; read as motion, the wall came toward the robot at
+// 1.1 m/s and the paper's rule kept the lamp on (duty 49.5 -> 79.2 %). Beyond its own depth (at
+// least 0.15 m) the jump is a merge. A pedestrian seen whole (0.5 m, measured by its middle) that
+// takes in the post beside it jumps by more than half its width: a merge too. A thin board that
+// does move keeps its velocity: both its faces move.
+TEST(TrackerAnchor, AJumpBeyondAThinObjectsOwnDepthIsNotMotion) {
+  TrackerParams jump = withAnchor(TrackAnchor::kNearestFace);
+  jump.face_jump_m = 0.4f;
+  jump.face_min_extent_m = 1.5f;
+  MultiObjectTracker wall(jump);
+  double worst_wall = 0.0;
+  for (int f = 0; f < 30; ++f) {
+    const bool joined = f == 3 || f == 15;
+    wall.update(0.1 * f, {span(-2.0, 9.4, -2.93, joined ? -2.61 : -2.85)});
+    ASSERT_EQ(wall.tracks().size(), 1u);
+    worst_wall = std::max(worst_wall, wall.tracks()[0].velocity().head<2>().norm());
+  }
+  EXPECT_LT(worst_wall, 0.1);
+
+  MultiObjectTracker walker(jump);
+  double worst_walker = 0.0;
+  for (int f = 0; f < 30; ++f) {
+    const bool joined = f == 4 || f == 5 || f == 16;  // the post 0.28 m beyond its far side
+    walker.update(0.1 * f, {span(8.0, joined ? 8.78 : 8.5, 2.0, 2.5)});
+    ASSERT_EQ(walker.tracks().size(), 1u);
+    worst_walker = std::max(worst_walker, walker.tracks()[0].velocity().head<2>().norm());
+  }
+  EXPECT_LT(worst_walker, 0.1);
+
+  MultiObjectTracker board(jump);
+  for (int f = 0; f < 30; ++f) {
+    const double near = -6.0 + 0.1 * f;  // toward the sensor's side at 1 m/s, 0.08 m deep
+    board.update(0.1 * f, {span(-2.0, 9.4, near - 0.08, near)});
+    ASSERT_EQ(board.tracks().size(), 1u);
+  }
+  EXPECT_NEAR(board.tracks()[0].velocity().y(), 1.0, 0.1);
+  EXPECT_NEAR(board.tracks()[0].velocity().x(), 0.0, 0.1);
+}
+
 // pedestrian_near_toward through the fast path: a wall 14 m wide 25 m ahead, and a walker 0.5 m
 // wide coming toward the sensor from 12 to 3 m. The walker's shadow splits the wall into two
 // pieces whose inner ends move outward with it (to 2 m/s as the walker comes near). Each piece's
