@@ -269,6 +269,10 @@ Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
   return hidden_lo() || hidden_hi() ? Face::kSteadier : Face::kMiddle;
 }
 
+// The least extent jump read as a merge of an object whose faces are followed: a thin wall's
+// measured depth is a few centimetres, its face's noise between frames about a tenth of a metre.
+constexpr float kMinDepthJumpM = 0.15f;
+
 // The position the filter measures for `detection` against the track's predicted box: the
 // filter's predicted reference point moved by as much as the anchor faces moved from the predicted
 // box to the detection (z: the middles). The same faces of both boxes are compared, so a change
@@ -277,14 +281,11 @@ Face nearestFace(const AxesBounds& b, int axis, const Eigen::Matrix2f& axes,
 // a parked car's do not move while the vehicle turns. An object whose footprint is shorter than
 // params.face_min_extent_m both ways in both boxes is seen whole (a pedestrian, a bin): its
 // middles, two faces' noise averaged. With params.face_jump_m, along an axis where the extent
-// jumps by more than that, the face that moved less against the prediction; with
+// jumps by more than that (or by more than a thin or small object's own extent), the face that
+// moved less against the prediction; with
 // params.occlusion_gap_deg, the same along an axis where a face of the detection ends beside a
 // nearer object. `detections` are the frame's, `spans` the same seen from the sensor, `matched`
 // the index of `detection` among them.
-// The least extent jump read as a merge of an object whose faces are followed: a thin wall's
-// measured depth is a few centimetres, its face's noise between frames about a tenth of a metre.
-constexpr float kMinDepthJumpM = 0.15f;
-
 Eigen::Vector3d anchoredMeasurement(const Box3D& detection, const Box3D& predicted,
                                     const Eigen::Vector3d& predicted_reference,
                                     float face_axes_yaw, const TrackerParams& params,
