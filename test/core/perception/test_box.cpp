@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
 
 #include <gtest/gtest.h>
 
@@ -117,6 +120,68 @@ TEST(BoxHull, HoldsTheExtremePointsAlongAnyAxes) {
     points_max = std::max(points_max, dir.dot(Eigen::Vector2f(p.x, p.y)));
   for (const Eigen::Vector2f& p : box.hull) hull_max = std::max(hull_max, dir.dot(p));
   EXPECT_NEAR(hull_max, points_max, 1e-5f);
+}
+
+// hullCandidates leaves out only points that cannot be on the hull: OpenCV's hull of what it keeps
+// is the hull of all the points, vertex for vertex, on clouds with ties along every direction it
+// tests (lattices, duplicates, axis-parallel and diagonal edges), lines, a few points, and
+// non-finite values; on a dense cloud it keeps few.
+TEST(BoxHull, CandidatesGiveTheSameHullAsAllThePoints) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(-20.0f, 20.0f);
+  std::normal_distribution<float> gauss(0.0f, 0.3f);
+  std::uniform_int_distribution<int> lattice(-6, 6), count(0, 300), shape(0, 5);
+  std::vector<cv::Point2f> xy, candidates, all_hull, hull;
+  std::size_t kept = 0, offered = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    xy.clear();
+    const int n = count(rng), kind = shape(rng);
+    const float cx = uni(rng), cy = uni(rng);
+    for (int i = 0; i < n; ++i) {
+      switch (kind) {
+        case 0: xy.emplace_back(cx + gauss(rng), cy + gauss(rng)); break;
+        case 1: xy.emplace_back(cx + 0.1f * lattice(rng), cy + 0.1f * lattice(rng)); break;
+        case 2: {  // a diamond's lattice: edges along x + y and x - y
+          const int a = lattice(rng), b = lattice(rng);
+          xy.emplace_back(cx + 0.25f * (a + b), cy + 0.25f * (a - b));
+          break;
+        }
+        case 3: {  // a line, as a wall seen end on
+          const float t = uni(rng);
+          xy.emplace_back(cx + t, cy + 0.5f * t);
+          break;
+        }
+        case 4: xy.emplace_back(std::round(uni(rng)), std::round(uni(rng) * 0.1f)); break;
+        default: xy.emplace_back(uni(rng), uni(rng)); break;
+      }
+      if (i > 0 && trial % 7 == 0 && i % 5 == 0) xy.push_back(xy[static_cast<std::size_t>(i - 1)]);
+    }
+    hullCandidates(xy, candidates);
+    for (const cv::Point2f& p : candidates)  // a subset of the points
+      ASSERT_NE(std::find(xy.begin(), xy.end(), p), xy.end()) << "trial " << trial;
+    if (xy.empty()) {
+      EXPECT_TRUE(candidates.empty());
+      continue;
+    }
+    cv::convexHull(xy, all_hull, false);
+    cv::convexHull(candidates, hull, false);
+    ASSERT_EQ(hull, all_hull) << "trial " << trial << ", kind " << kind << ", " << n << " points";
+    if (n >= 200 && (kind == 0 || kind == 5)) {
+      kept += candidates.size();
+      offered += xy.size();
+    }
+  }
+  ASSERT_GT(offered, 0u);
+  EXPECT_LT(kept * 4, offered);  // a dense cloud keeps less than a quarter of its points
+
+  // Collinear points have no inside: all are kept. A NaN is kept (cv::convexHull decides).
+  xy = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  hullCandidates(xy, candidates);
+  EXPECT_EQ(candidates.size(), 4u);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  xy = {{0, 0}, {4, 0}, {4, 4}, {0, 4}, {2, 2}, {nan, 1}};
+  hullCandidates(xy, candidates);
+  EXPECT_EQ(candidates.size(), 5u);  // the square's corners and the NaN, not its middle
 }
 
 }  // namespace

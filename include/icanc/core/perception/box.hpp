@@ -52,6 +52,13 @@ Box3D fitBoxFootprint(const std::vector<cv::Point2f>& xy, float zmin, float zmax
 // grid of cell_m (cells anchored at the frame's origin), ordered by cell.
 std::vector<FootprintCell> footprintCells(const std::vector<cv::Point2f>& xy, float cell_m);
 
+// The points of xy that may lie on its convex hull, appended to out (cleared first): all but
+// those strictly inside the octagon of its extreme points along x, y, x + y and x - y
+// (Akl-Toussaint). The hull of what is left is the hull of xy, found without sorting the points
+// the octagon already rules out (most of a cluster's). Points on or near the octagon's edges are
+// kept; so is everything when the octagon has no inside (collinear points, fewer than three).
+void hullCandidates(const std::vector<cv::Point2f>& xy, std::vector<cv::Point2f>& out);
+
 // Intersection over union of the axis-aligned boxes seen from above (x/y only), in [0, 1].
 float bevIoU(const Box3D& a, const Box3D& b);
 
