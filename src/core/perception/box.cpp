@@ -122,19 +122,27 @@ void hullCandidates(const std::vector<cv::Point2f>& xy, std::vector<cv::Point2f>
     if (p.y > ext[6].y) ext[6] = p;
     if (p.x - p.y < ext[7].x - ext[7].y) ext[7] = p;
   }
-  // The octagon's edges (repeated corners give none). A point is strictly inside when it lies to
-  // the left of every edge by more than the rounding of the cross product could make up.
-  float ex[8], ey[8], ax[8], ay[8];
+  // The octagon's edges, in coordinates from its first corner (repeated corners give none: an edge
+  // of zero length that every point passes). A point is strictly inside when it lies to the left
+  // of every edge by more than the rounding of the cross product could make up: 1e-5 of the edge
+  // times the octagon's span, against a few 1e-7 of it.
+  for (const cv::Point2f& e : ext)
+    if (!std::isfinite(e.x) || !std::isfinite(e.y)) {  // an infinite coordinate: keep everything
+      out = xy;
+      return;
+    }
+  const cv::Point2f o = ext[0];
+  const float span = (ext[4].x - ext[0].x) + (ext[6].y - ext[2].y);
+  float ex[8], ey[8], c[8];
   int edges = 0;
   for (int k = 0; k < 8; ++k) {
-    const cv::Point2f& a = ext[k];
-    const cv::Point2f& b = ext[(k + 1) % 8];
-    if (a.x == b.x && a.y == b.y) continue;
-    ax[edges] = a.x;
-    ay[edges] = a.y;
-    ex[edges] = b.x - a.x;
-    ey[edges] = b.y - a.y;
-    ++edges;
+    const cv::Point2f a = ext[k] - o, b = ext[(k + 1) % 8] - o;
+    ex[k] = b.x - a.x;
+    ey[k] = b.y - a.y;
+    const bool degenerate = ex[k] == 0.0f && ey[k] == 0.0f;
+    edges += !degenerate;
+    // cross((b - a), (q - a)) = ex * qy - ey * qx - (ex * ay - ey * ax), less the margin.
+    c[k] = degenerate ? -1.0f : ex[k] * a.y - ey[k] * a.x + 1e-5f * (std::abs(ex[k]) + std::abs(ey[k])) * span;
   }
   if (edges < 3) {
     out = xy;
@@ -142,13 +150,9 @@ void hullCandidates(const std::vector<cv::Point2f>& xy, std::vector<cv::Point2f>
   }
   out.reserve(64);
   for (const cv::Point2f& p : xy) {
+    const float qx = p.x - o.x, qy = p.y - o.y;
     bool inside = true;
-    for (int k = 0; k < edges && inside; ++k) {
-      const float dx = p.x - ax[k], dy = p.y - ay[k];
-      const float cross = ex[k] * dy - ey[k] * dx;
-      const float scale = (std::abs(ex[k]) + std::abs(ey[k])) * (std::abs(dx) + std::abs(dy));
-      inside = cross > 1e-5f * scale;
-    }
+    for (int k = 0; k < 8; ++k) inside &= ex[k] * qy - ey[k] * qx - c[k] > 0.0f;
     if (!inside) out.push_back(p);  // (a NaN fails every test: kept)
   }
 }

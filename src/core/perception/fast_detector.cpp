@@ -504,18 +504,22 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
     if (!c.grounded) continue;  // floating cells only: an overhang (a canopy over the road)
     if (c.split) continue;      // boxed by rangeSplit
     footprint_.clear();
-    for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
-      const Cell& cell = cells_[static_cast<std::size_t>(k)];
-      footprint_.emplace_back(cell.xmin_x, cell.xmin_y);
-      footprint_.emplace_back(cell.xmax_x, cell.xmax_y);
-      footprint_.emplace_back(cell.ymin_x, cell.ymin_y);
-      footprint_.emplace_back(cell.ymax_x, cell.ymax_y);
-    }
+    for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k])
+      appendExtremes(cells_[static_cast<std::size_t>(k)], footprint_);
     boxes.push_back(fitBoxFootprint(footprint_, c.zmin, c.zmax, c.count, footprint_cell_m_));
   }
   std::stable_sort(boxes.begin(), boxes.end(),
                    [](const Box3D& a, const Box3D& b) { return a.num_points > b.num_points; });
 
+}
+
+void FastDetector::appendExtremes(const Cell& cell, std::vector<cv::Point2f>& out) {
+  const cv::Point2f a(cell.xmin_x, cell.xmin_y), b(cell.xmax_x, cell.xmax_y);
+  const cv::Point2f c(cell.ymin_x, cell.ymin_y), d(cell.ymax_x, cell.ymax_y);
+  out.push_back(a);
+  if (b != a) out.push_back(b);
+  if (c != a && c != b) out.push_back(c);
+  if (d != a && d != b && d != c) out.push_back(d);
 }
 
 void FastDetector::dropGrazingColumns() {
@@ -895,10 +899,7 @@ void FastDetector::splitCluster(std::size_t cluster, std::size_t begin, std::siz
   for (std::int32_t k = c.first_cell; k >= 0; k = next_in_cluster_[k]) {
     if (cell_carved_[k]) continue;
     const Cell& cell = cells_[static_cast<std::size_t>(k)];
-    footprint_.emplace_back(cell.xmin_x, cell.xmin_y);
-    footprint_.emplace_back(cell.xmax_x, cell.xmax_y);
-    footprint_.emplace_back(cell.ymin_x, cell.ymin_y);
-    footprint_.emplace_back(cell.ymax_x, cell.ymax_y);
+    appendExtremes(cell, footprint_);
     zmin = std::min(zmin, cell.zmin);
     zmax = std::max(zmax, cell.zmax);
   }

@@ -225,6 +225,9 @@ class FastDetector {
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
   void clusterAndFit(std::vector<Box3D>& boxes);
+  // A cell's extreme points into a footprint, each distinct one once (a cell of one return gives
+  // one point, not four: the same hull and footprint cells, less to sort and bin).
+  static void appendExtremes(const Cell& cell, std::vector<cv::Point2f>& out);
   // Drops clusters that are one line of sight on a surface another cluster continues (grazing).
   void dropGrazingColumns();
   std::int32_t find(std::int32_t k);
