@@ -1,6 +1,7 @@
 #include "icanc/core/perception/fast_detector.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -299,10 +300,20 @@ void FastDetector::addObstacle(const Kept& p) {
   Cell& c = cells_[static_cast<std::size_t>(slot)];
   c.zmin = std::min(c.zmin, p.z);
   c.zmax = std::max(c.zmax, p.z);
-  if (p.x < c.xmin_x) { c.xmin_x = p.x; c.xmin_y = p.y; }
-  if (p.x > c.xmax_x) { c.xmax_x = p.x; c.xmax_y = p.y; }
-  if (p.y < c.ymin_y) { c.ymin_x = p.x; c.ymin_y = p.y; }
-  if (p.y > c.ymax_y) { c.ymax_x = p.x; c.ymax_y = p.y; }
+  // Each extreme point as one 8-byte (x, y) word, taken or kept by a conditional move: which
+  // point of a cell is the extreme one follows no pattern a branch predictor learns.
+  std::uint64_t xy;
+  std::memcpy(&xy, &p.x, sizeof xy);
+  const auto take = [xy](float* pair, bool better) ICANC_ALWAYS_INLINE {
+    std::uint64_t old;
+    std::memcpy(&old, pair, sizeof old);
+    const std::uint64_t now = better ? xy : old;
+    std::memcpy(pair, &now, sizeof now);
+  };
+  take(&c.xmin_x, p.x < c.xmin_x);
+  take(&c.xmax_x, p.x > c.xmax_x);
+  take(&c.ymin_x, p.y < c.ymin_y);
+  take(&c.ymax_x, p.y > c.ymax_y);
   ++c.count;
 }
 
