@@ -100,8 +100,9 @@ void hullCandidates(const std::vector<cv::Point2f>& xy, std::vector<cv::Point2f>
   out.clear();
   if (xy.empty()) return;
   // The extreme point along each of eight directions, counter-clockwise from -x: -x, -(x + y),
-  // -y, x - y, x, x + y, y, -(x - y). (The first of equals; non-finite points never win, and are
-  // kept below: cv::convexHull is given what it was given before.)
+  // -y, x - y, x, x + y, y, -(x - y). (The first of equals. A NaN never wins, and is kept below
+  // as cv::convexHull was given it before; an infinite coordinate may win, and then every point
+  // is kept.)
   const auto finite = [](const cv::Point2f& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
   std::size_t first = 0;
   while (first < xy.size() && !finite(xy[first])) ++first;

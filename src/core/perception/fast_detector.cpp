@@ -1,6 +1,7 @@
 #include "icanc/core/perception/fast_detector.hpp"
 
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <numeric>
@@ -302,6 +303,12 @@ void FastDetector::addObstacle(const Kept& p) {
   c.zmax = std::max(c.zmax, p.z);
   // Each extreme point as one 8-byte (x, y) word, taken or kept by a conditional move: which
   // point of a cell is the extreme one follows no pattern a branch predictor learns.
+  static_assert(offsetof(Kept, y) == offsetof(Kept, x) + sizeof(float) &&
+                    offsetof(Cell, xmin_y) == offsetof(Cell, xmin_x) + sizeof(float) &&
+                    offsetof(Cell, xmax_y) == offsetof(Cell, xmax_x) + sizeof(float) &&
+                    offsetof(Cell, ymin_y) == offsetof(Cell, ymin_x) + sizeof(float) &&
+                    offsetof(Cell, ymax_y) == offsetof(Cell, ymax_x) + sizeof(float),
+                "an extreme point's x and y are one 8-byte word");
   std::uint64_t xy;
   std::memcpy(&xy, &p.x, sizeof xy);
   const auto take = [xy](float* pair, bool better) ICANC_ALWAYS_INLINE {
