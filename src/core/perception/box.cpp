@@ -9,6 +9,10 @@
 
 namespace icanc {
 
+namespace {
+bool finite(const cv::Point2f& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+}  // namespace
+
 Box3D fitBox(const Cloud& cloud, const std::vector<int>* indices, float footprint_cell_m) {
   const std::size_t n = indices ? indices->size() : cloud.size();
   if (n == 0) return Box3D();
@@ -32,7 +36,6 @@ std::vector<FootprintCell> footprintCells(const std::vector<cv::Point2f>& xy, fl
   // A dense grid over the points' own cells when it is small against the points (every cluster a
   // detector makes): linear, no sort. Cells come out ordered by x cell, then y cell, as below.
   // Non-finite points are skipped.
-  const auto finite = [](const cv::Point2f& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
   const float inf = std::numeric_limits<float>::infinity();
   float xmin = inf, xmax = -inf, ymin = inf, ymax = -inf;
   std::size_t n = 0;
@@ -103,7 +106,6 @@ void hullCandidates(const std::vector<cv::Point2f>& xy, std::vector<cv::Point2f>
   // -y, x - y, x, x + y, y, -(x - y). (The first of equals. A NaN never wins, and is kept below
   // as cv::convexHull was given it before; an infinite coordinate may win, and then every point
   // is kept.)
-  const auto finite = [](const cv::Point2f& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
   std::size_t first = 0;
   while (first < xy.size() && !finite(xy[first])) ++first;
   if (first == xy.size()) {
@@ -128,7 +130,7 @@ void hullCandidates(const std::vector<cv::Point2f>& xy, std::vector<cv::Point2f>
   // of every edge by more than the rounding of the cross product could make up: 1e-5 of the edge
   // times the octagon's span, against a few 1e-7 of it.
   for (const cv::Point2f& e : ext)
-    if (!std::isfinite(e.x) || !std::isfinite(e.y)) {  // an infinite coordinate: keep everything
+    if (!finite(e)) {  // an infinite coordinate: keep everything
       out = xy;
       return;
     }
