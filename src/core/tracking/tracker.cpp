@@ -18,6 +18,13 @@ constexpr float kOwnAxesMinLengthM = 3.0f;
 
 bool finiteCenter(const Box3D& box) { return box.center.allFinite(); }
 
+// True when p's (x, y) lies inside the box's footprint grown by margin_m.
+bool planarContains(const Box3D& box, const Eigen::Vector3f& p, double margin_m) {
+  const Eigen::Vector3d c = box.center.cast<double>();
+  return orientedBoxContains(c, box.size.cast<double>(), box.yaw,
+                             Eigen::Vector3d(p.x(), p.y(), c.z()), margin_m);
+}
+
 // Moves the box (centre, axis-aligned bounds, footprint and hull) by delta.
 void translateBox(Box3D& box, const Eigen::Vector3f& delta) {
   box.center += delta;
@@ -418,6 +425,10 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.face_jump_m must be >= 0 (got " << p.face_jump_m << ")";
   } else if (!(p.occlusion_gap_deg >= 0.0f) || !(p.occlusion_gap_deg < 90.0f)) {
     why << "tracker.occlusion_gap_deg must be >= 0 and < 90 (got " << p.occlusion_gap_deg << ")";
+  } else if (!(p.merge_hold_m >= 0.0f) || !std::isfinite(p.merge_hold_m)) {
+    why << "tracker.merge_hold_m must be >= 0 (got " << p.merge_hold_m << ")";
+  } else if (p.merge_hold_frames < 0) {
+    why << "tracker.merge_hold_frames must be >= 0 (got " << p.merge_hold_frames << ")";
   } else if (!(p.robust_sigma >= 0.0) || !std::isfinite(p.robust_sigma)) {
     why << "tracker.robust_sigma must be >= 0 (got " << p.robust_sigma << ")";
   } else if (p.anchor != TrackAnchor::kCentre && p.anchor != TrackAnchor::kNearestFace) {
@@ -441,6 +452,33 @@ MultiObjectTracker::MultiObjectTracker(const TrackerParams& params) : params_(pa
 void MultiObjectTracker::reset() {
   tracks_.clear();
   has_stamp_ = false;
+}
+
+void MultiObjectTracker::holdTracksInsideDetections(const std::vector<Box3D>& detections) {
+  const int num_tracks = static_cast<int>(tracks_.size());
+  const int num_detections = static_cast<int>(detections.size());
+  track_held_.assign(num_tracks, 0);
+  for (int i = 0; i < num_tracks; ++i) {
+    const Eigen::Vector3f& at = tracks_[i].box.center;
+    for (int j = 0; j < num_detections && !track_held_[i]; ++j) {
+      track_held_[i] = cost_(i, j) < kForbiddenCost && planarContains(detections[j], at, 0.0);
+    }
+  }
+  for (int i = 0; i < num_tracks; ++i) {
+    if (!track_held_[i]) continue;
+    const Box3D& predicted = tracks_[i].box;
+    // Plus three standard deviations of where the filter predicts it: a young track, its velocity
+    // still unknown, is not held to a place it does not know (a walker entering a counter's box).
+    const auto& P = tracks_[i].filter.covariance();
+    const double margin = params_.merge_hold_m + 3.0 * std::sqrt(std::max(P(0, 0), P(1, 1)));
+    for (int j = 0; j < num_detections; ++j) {
+      if (cost_(i, j) >= kForbiddenCost) continue;
+      if (!planarContains(detections[j], predicted.center, margin) &&
+          !planarContains(predicted, detections[j].center, margin)) {
+        cost_(i, j) = kForbiddenCost;
+      }
+    }
+  }
 }
 
 MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
@@ -509,6 +547,8 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                               params_.iou_weight * (1.0 - bevIoU(predicted, detection));
     }
   }
+  const bool held = params_.merge_hold_m > 0.0f;
+  if (held) holdTracksInsideDetections(detections);
   solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
                               assignment_workspace_, track_to_detection_);
 
@@ -540,6 +580,9 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
       translateBox(track.box, (track.filter.position() - z).cast<float>());
       ++track.hits;
       track.missed = 0;
+      track.held = 0;
+    } else if (held && track_held_[i] && track.held < params_.merge_hold_frames) {
+      ++track.held;  // inside a detection another track took: merged, not gone
     } else {
       ++track.missed;
     }

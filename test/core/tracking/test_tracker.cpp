@@ -10,28 +10,15 @@
 #include <vector>
 
 #include "icanc/core/tracking/tracker.hpp"
+#include "tracker_boxes.hpp"
 
 namespace icanc {
 namespace {
 
 using Result = MultiObjectTracker::UpdateResult;
 
-Box3D box(double x, double y, double length = 0.8, double width = 0.8, double height = 1.7) {
-  Box3D b;
-  b.center = Eigen::Vector3f(x, y, height / 2);
-  b.size = Eigen::Vector3f(length, width, height);
-  b.min = b.center - b.size / 2;
-  b.max = b.center + b.size / 2;
-  b.num_points = 50;
-  return b;
-}
-
-const Track* findId(const MultiObjectTracker& t, std::uint32_t id) {
-  for (const Track& track : t.tracks()) {
-    if (track.id == id) return &track;
-  }
-  return nullptr;
-}
+using test::box;
+using test::findId;
 
 std::uint32_t maxId(const MultiObjectTracker& t) {
   std::uint32_t m = 0;

@@ -55,6 +55,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/face_min_extent_m", p.tracker.face_min_extent_m);
   r("tracker/face_jump_m", p.tracker.face_jump_m);
   r("tracker/occlusion_gap_deg", p.tracker.occlusion_gap_deg);
+  r("tracker/merge_hold_m", p.tracker.merge_hold_m);
+  r("tracker/merge_hold_frames", p.tracker.merge_hold_frames);
   r("fast/cell_m", p.fast.cell_m);
   r("fast/link_m", p.fast.link_m);
   r("fast/link_max_step_m", p.fast.link_max_step_m);

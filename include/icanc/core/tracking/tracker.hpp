@@ -83,6 +83,17 @@ struct TrackerParams {
   // pieces fly sideways. A face seen along its length (a flank at grazing incidence) is never one.
   // 0: off [deg].
   float occlusion_gap_deg = 0.0f;
+  // A track whose predicted centre lies inside a detection's box is where that detection is: it
+  // takes only a detection whose box, grown by this plus three standard deviations of its
+  // predicted position, holds its predicted centre, or whose centre lies in its predicted box
+  // grown by as much; else it coasts. Two walkers seen as one box: the one
+  // whose track did not get that box no longer jumps to the pedestrian standing 1.3 m away (the
+  // fixed gate allows 2 m a frame). 0: off [m].
+  float merge_hold_m = 0.0f;
+  // merge_hold_m > 0: a track that got no detection while its predicted centre lay inside one
+  // (merged with what it walks beside) coasts up to this many such frames before a miss counts,
+  // so it is there to take its own box back when the two come apart.
+  int merge_hold_frames = 0;
 };
 
 std::string validate(const TrackerParams& params);
@@ -104,7 +115,9 @@ struct Track {
   ImmConstantVelocity filter;
   int age = 0;                // frames since birth (1 on the birth frame)
   int hits = 0;               // frames with an associated detection
-  int missed = 0;             // consecutive frames without one
+  int missed = 0;             // consecutive frames without one, but for the held ones:
+  int held = 0;               // frames without one inside a detection another track took
+                              // (merge_hold_frames); missed + held: how long it has coasted
   bool confirmed = false;     // hits >= min_hits_to_confirm (stays true once reached)
 
   Eigen::Vector3d velocity() const { return filter.velocity(); }
@@ -151,6 +164,9 @@ class MultiObjectTracker {
   const std::vector<Track>& tracks() const { return tracks_; }
 
  private:
+  // merge_hold_m: forbids (in cost_) what a track inside a detection may not take.
+  void holdTracksInsideDetections(const std::vector<Box3D>& detections);
+
   TrackerParams params_;
   std::vector<Track> tracks_;
   std::vector<BearingSpan> spans_;  // this frame's detections, for occlusion_gap_deg
@@ -163,6 +179,7 @@ class MultiObjectTracker {
   ComponentWorkspace assignment_workspace_;  // solved per connected component of gated pairs
   std::vector<int> track_to_detection_;
   std::vector<char> detection_used_;
+  std::vector<char> track_held_;  // its predicted centre inside a detection (merge_hold_m)
 };
 
 }  // namespace icanc
