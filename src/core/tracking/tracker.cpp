@@ -457,11 +457,19 @@ void MultiObjectTracker::reset() {
 void MultiObjectTracker::holdTracksInsideDetections(const std::vector<Box3D>& detections) {
   const int num_tracks = static_cast<int>(tracks_.size());
   const int num_detections = static_cast<int>(detections.size());
+  const auto inside = [&](int i, int j) {
+    return cost_(i, j) < kForbiddenCost &&
+           planarContains(detections[j], tracks_[i].box.center, 0.0);
+  };
+  // Of the tracks inside a detection, the one it fits best (the lowest cost).
+  best_inside_.assign(num_detections, -1);
   track_held_.assign(num_tracks, 0);
   for (int i = 0; i < num_tracks; ++i) {
-    const Eigen::Vector3f& at = tracks_[i].box.center;
-    for (int j = 0; j < num_detections && !track_held_[i]; ++j) {
-      track_held_[i] = cost_(i, j) < kForbiddenCost && planarContains(detections[j], at, 0.0);
+    for (int j = 0; j < num_detections; ++j) {
+      if (!inside(i, j)) continue;
+      track_held_[i] = 1;
+      int& best = best_inside_[j];
+      if (best < 0 || cost_(i, j) < cost_(best, j)) best = i;
     }
   }
   for (int i = 0; i < num_tracks; ++i) {
@@ -473,10 +481,13 @@ void MultiObjectTracker::holdTracksInsideDetections(const std::vector<Box3D>& de
     const double margin = params_.merge_hold_m + 3.0 * std::sqrt(std::max(P(0, 0), P(1, 1)));
     for (int j = 0; j < num_detections; ++j) {
       if (cost_(i, j) >= kForbiddenCost) continue;
-      if (!planarContains(detections[j], predicted.center, margin) &&
-          !planarContains(predicted, detections[j].center, margin)) {
-        cost_(i, j) = kForbiddenCost;
-      }
+      // A box that holds several tracks (a merge) goes to the one it fits best; the others coast
+      // inside it. Else the assignment, which pairs as many as it can, gave it to the smaller
+      // track and the bigger one a sliver beside it (a pedestrian's and a parked car's tracks).
+      const bool taken_by_another = inside(i, j) && best_inside_[j] != i;
+      const bool near = planarContains(detections[j], predicted.center, margin) ||
+                        planarContains(predicted, detections[j].center, margin);
+      if (taken_by_another || !near) cost_(i, j) = kForbiddenCost;
     }
   }
 }

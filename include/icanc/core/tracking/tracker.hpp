@@ -86,9 +86,9 @@ struct TrackerParams {
   // A track whose predicted centre lies inside a detection's box is where that detection is: it
   // takes only a detection whose box, grown by this plus three standard deviations of its
   // predicted position, holds its predicted centre, or whose centre lies in its predicted box
-  // grown by as much; else it coasts. Two walkers seen as one box: the one
-  // whose track did not get that box no longer jumps to the pedestrian standing 1.3 m away (the
-  // fixed gate allows 2 m a frame). 0: off [m].
+  // grown by as much; else it coasts. A box holding several tracks goes only to the one it fits
+  // best. Two walkers seen as one box: the one whose track did not get that box no longer jumps
+  // to the pedestrian standing 1.3 m away (the fixed gate allows 2 m a frame). 0: off [m].
   float merge_hold_m = 0.0f;
   // merge_hold_m > 0: a track that got no detection while its predicted centre lay inside one
   // (merged with what it walks beside) coasts up to this many such frames before a miss counts,
@@ -180,6 +180,7 @@ class MultiObjectTracker {
   std::vector<int> track_to_detection_;
   std::vector<char> detection_used_;
   std::vector<char> track_held_;  // its predicted centre inside a detection (merge_hold_m)
+  std::vector<int> best_inside_;  // per detection: the track inside it it fits best, or -1
 };
 
 }  // namespace icanc
