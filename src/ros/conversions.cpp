@@ -64,7 +64,7 @@ void toObstacleMsg(const Track& track, const EgoStep& ego, Obstacle& out) {
   out.velocity_std_axes.y = std_xy.y();
   out.age = track.age;
   out.hits = track.hits;
-  out.missed = track.missed + track.held;  // held: coasting inside what it merged with
+  out.missed = track.coasted();
   out.num_points = track.box.num_points;
 }
 

@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
     std::vector<icanc::OverlayObject> objects;
     int dangerous = 0;
     for (const icanc::Track& track : detector.tracks()) {
-      if (!track.confirmed || track.missed + track.held > 0) continue;
+      if (!track.confirmed || track.coasted() > 0) continue;
       icanc::ObjectKinematics kin;
       kin.center = track.box.center.cast<double>();
       kin.aabb_min = track.box.min.cast<double>();

@@ -484,7 +484,7 @@ void MultiObjectTracker::holdTracksInsideDetections(const std::vector<Box3D>& de
       // A box that holds several tracks (a merge) goes to the one it fits best; the others coast
       // inside it. Else the assignment, which pairs as many as it can, gave it to the smaller
       // track and the bigger one a sliver beside it (a pedestrian's and a parked car's tracks).
-      const bool taken_by_another = inside(i, j) && best_inside_[j] != i;
+      const bool taken_by_another = best_inside_[j] >= 0 && best_inside_[j] != i && inside(i, j);
       const bool near = planarContains(detections[j], predicted.center, margin) ||
                         planarContains(predicted, detections[j].center, margin);
       if (taken_by_another || !near) cost_(i, j) = kForbiddenCost;
@@ -558,8 +558,8 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                               params_.iou_weight * (1.0 - bevIoU(predicted, detection));
     }
   }
-  const bool held = params_.merge_hold_m > 0.0f;
-  if (held) holdTracksInsideDetections(detections);
+  const bool hold_merges = params_.merge_hold_m > 0.0f;
+  if (hold_merges) holdTracksInsideDetections(detections);
   solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
                               assignment_workspace_, track_to_detection_);
 
@@ -592,7 +592,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
       ++track.hits;
       track.missed = 0;
       track.held = 0;
-    } else if (held && track_held_[i] && track.held < params_.merge_hold_frames) {
+    } else if (hold_merges && track_held_[i] && track.held < params_.merge_hold_frames) {
       ++track.held;  // inside a detection another track took: merged, not gone
     } else {
       ++track.missed;

@@ -120,6 +120,7 @@ struct Track {
                               // (merge_hold_frames); missed + held: how long it has coasted
   bool confirmed = false;     // hits >= min_hits_to_confirm (stays true once reached)
 
+  int coasted() const { return missed + held; }  // consecutive frames without a detection
   Eigen::Vector3d velocity() const { return filter.velocity(); }
   // 1-sigma uncertainty of the planar velocity [m/s] (sqrt of the x/y velocity variance sum).
   double velocityStd() const;           // planar: sqrt(var vx + var vy)
