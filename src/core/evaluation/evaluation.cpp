@@ -43,6 +43,19 @@ const TruthObject* unscoredObjectAt(const std::vector<TruthObject>& all_truth,
   return nullptr;
 }
 
+// An unmatched true object merged into a matched detection: the first matched detection whose box
+// holds its centre (EvalReport::detection_merged), else -1.
+int mergedInto(const TruthObject& o, const std::vector<DetectedObject>& dets,
+               const std::vector<bool>& matched) {
+  for (std::size_t j = 0; j < dets.size(); ++j) {
+    const DetectedObject& d = dets[j];
+    if (matched[j] && d.has_aabb && (o.center.array() >= d.aabb_min.array()).all() &&
+        (o.center.array() <= d.aabb_max.array()).all())
+      return static_cast<int>(j);
+  }
+  return -1;
+}
+
 // Half extents along x and y of the true oriented footprint's axis-aligned bounds.
 Eigen::Vector2d axisAlignedReach(const TruthObject& o) {
   const Eigen::Vector2d half = 0.5 * o.size.cwiseAbs();
@@ -292,6 +305,12 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       // Danger per object-frame: its detection or one of its fragments flagged.
       const bool by_match = found && dets[m[i]].dangerous;
       const bool predicted = by_match || flagged_by[i] >= 0;
+      const int merged = found ? -1 : mergedInto(o, dets, det_used);
+      if (merged >= 0) {
+        ++r.detection_merged;
+        if (o.dangerous && !predicted && !o.horizon_cut && dets[merged].dangerous)
+          ++r.danger_fn_in_flagged_merge;
+      }
       if (predicted) {
         flagged_ids.insert(o.id);
         causes.flag(o.horizon_cut ? LampCause::kUnscored
@@ -311,6 +330,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           row.fragment = j != m[i];
           row.detection = dets[j];
         }
+        if (merged >= 0) row.merged_into = dets[merged].id;
         rows->push_back(row);
       }
     }
@@ -395,6 +415,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
       "  in the detector's region of interest: recall %.2f %%  precision %.2f %% (true objects %llu)\n"
+      "  missed inside the box of a detection matched to another (merged): %llu of %llu missed; dangerous ones whose merged box was flagged: %llu\n"
       "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
       "  true box beyond the detected one (median): near face %.3f m, sides %.3f m (n %zu)\n"
       "  speed over ground of static objects' settled tracks: p50 %.2f  p90 %.2f m/s (n %zu)\n"
@@ -410,6 +431,9 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
       r.velocity_samples, 100 * r.detection_roi.recall(), 100 * r.detection_roi.precision(),
       static_cast<unsigned long long>(r.detection_roi.tp + r.detection_roi.fn),
+      static_cast<unsigned long long>(r.detection_merged),
+      static_cast<unsigned long long>(r.detection.fn),
+      static_cast<unsigned long long>(r.danger_fn_in_flagged_merge),
       r.velocity_rmse_settled, r.velocity_samples_settled, r.offset_step_rms_m,
       r.offset_steps, r.box_bias_near_m, r.box_bias_side_m, r.box_bias_samples,
       r.static_speed_p50_mps, r.static_speed_p90_mps, r.static_speed_samples, r.latency_p50_ms,
@@ -440,6 +464,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
   conf("detection", r.detection);
   j << ", ";
   conf("detection_roi", r.detection_roi);
+  j << ", \"detection_merged\": " << r.detection_merged
+    << ", \"danger_fn_in_flagged_merge\": " << r.danger_fn_in_flagged_merge;
   j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
     << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
     << ", \"offset_step_rms_m\": " << r.offset_step_rms_m
@@ -462,7 +488,7 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
   c << "t,outcome,truth_id,truth_type,truth_x,truth_y,truth_length,truth_width,truth_yaw,"
        "truth_vx,truth_vy,truth_ttc_s,"
        "det_id,det_fragment,det_dangerous,det_x,det_y,det_vx,det_vy,det_vx_std,det_vy_std,"
-       "det_vgx,det_vgy,det_x_min,det_x_max,det_y_min,det_y_max,det_age,perfect_dangerous\n";
+       "det_vgx,det_vgy,det_x_min,det_x_max,det_y_min,det_y_max,det_age,perfect_dangerous,merged_into\n";
   char buf[512];
   for (const ScoredRow& row : rows) {
     std::snprintf(buf, sizeof(buf), "%.3f,%s,", row.t, toString(row.outcome));
@@ -488,7 +514,9 @@ std::string toCsv(const std::vector<ScoredRow>& rows) {
       c << ",,,,,,,,,,,,,,,,";
     }
     // The model on the true object's perfect track (empty for a false alarm of no true object).
-    c << (row.has_truth ? (row.perfect_flagged ? "1" : "0") : "") << "\n";
+    c << (row.has_truth ? (row.perfect_flagged ? "1" : "0") : "") << ",";
+    if (row.merged_into) c << row.merged_into;
+    c << "\n";
   }
   return c.str();
 }

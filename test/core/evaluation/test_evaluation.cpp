@@ -227,17 +227,18 @@ TEST(Evaluate, RowsExplainEachCountedObjectFrame) {
   EXPECT_NE(csv.find("\n0.500,FN,3,,8.000,6.000,0.000,0.000,0.0000,-1.000,0.000,2.00,,,,"),
             std::string::npos) << csv;
   EXPECT_NE(csv.find("\n0.500,FP,,,,,,,,,,,30,0,1,18.000,3.000,"), std::string::npos) << csv;
-  // The last column: the model on the true object's perfect track; empty without a true object.
-  EXPECT_NE(csv.find(",det_age,perfect_dangerous\n"), std::string::npos) << csv;
+  // The last columns: the model on the true object's perfect track, empty without a true object;
+  // the box it is merged into, empty (nothing merged in this frame).
+  EXPECT_NE(csv.find(",det_age,perfect_dangerous,merged_into\n"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",det_vy_std,det_vgx,det_vgy,det_x_min,"), std::string::npos) << csv;
-  EXPECT_EQ(csv.substr(csv.size() - 2), ",\n") << csv;  // the detection of nothing
+  EXPECT_EQ(csv.substr(csv.size() - 3), ",,\n") << csv;  // the detection of nothing
   const std::string fn_line = csv.substr(csv.find("\n0.500,FN,3,") + 1);
-  EXPECT_EQ(fn_line.substr(fn_line.find('\n') - 2, 2), (rows[2].perfect_flagged ? ",1" : ",0")) << csv;
+  EXPECT_EQ(fn_line.substr(fn_line.find('\n') - 3, 3), (rows[2].perfect_flagged ? ",1," : ",0,")) << csv;
   // Every line has the header's number of fields.
   std::size_t start = 0;
   while (start < csv.size()) {
     const std::size_t end = csv.find('\n', start);
-    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 28) << csv.substr(start, end - start);
+    EXPECT_EQ(std::count(csv.begin() + start, csv.begin() + end, ','), 29) << csv.substr(start, end - start);
     start = end + 1;
   }
 }
@@ -270,6 +271,56 @@ TEST(Evaluate, BoxBiasOfTheTrueFootprintBeyondTheDetectedBox) {
   EXPECT_EQ(r.box_bias_samples, 3u);
   EXPECT_NEAR(r.box_bias_near_m, 0.3, 1e-9);
   EXPECT_NEAR(r.box_bias_side_m, 0.1, 1e-9);
+}
+
+// Two walkers side by side seen as one box (mount_robot16_clutter): the box is matched to one of
+// them, the other is missed, merged into it, not unseen. A dangerous walker so merged into a box
+// flagged dangerous is counted apart (the lamp came on for the box that holds it). A walker whose
+// centre lies outside every matched box, or inside an unmatched one, is not merged.
+TEST(Evaluate, AnObjectInsideAnotherObjectsBoxIsMissedAsMerged) {
+  const auto boxed = [](std::uint32_t id, double x, double y, double half_x, double half_y,
+                        bool dangerous) {
+    DetectedObject d = det(id, x, y, dangerous);
+    d.has_aabb = true;
+    d.aabb_min = Eigen::Vector2d(x - half_x, y - half_y);
+    d.aabb_max = Eigen::Vector2d(x + half_x, y + half_y);
+    return d;
+  };
+  // The pair's box (y 0.31..1.57) a hair nearer the safe walker at y 1.35: matched to it.
+  const TruthObject inner = truth(3, 9.2, 0.55, true, 1.0), outer = truth(4, 9.2, 1.35, false);
+  const TruthObject apart = truth(5, 20.0, -6.0, true, 1.5);  // its box is not there
+  std::vector<EvalFrame> frames{
+      frame(0.0, true, {inner, outer, apart}, {boxed(7, 9.07, 0.97, 0.16, 0.63, true)}),
+      frame(0.1, true, {inner, outer, apart}, {boxed(7, 9.07, 0.97, 0.16, 0.63, false)})};
+  std::vector<ScoredRow> rows;
+  const EvalReport r = evaluate(frames, EvalParams(), &rows);
+  EXPECT_EQ(r.detection.tp, 2u);  // the box matched to walker 4 in both frames
+  EXPECT_EQ(r.detection.fn, 4u);  // walker 3 (merged) and walker 5 (unseen), twice
+  EXPECT_EQ(r.detection_merged, 2u);
+  EXPECT_EQ(r.danger.fn, 4u);
+  EXPECT_EQ(r.danger_fn_in_flagged_merge, 1u);  // the first frame: the box was flagged
+  EXPECT_EQ(r.danger.fp, 1u);                   // walker 4, through the flagged box
+  int merged_rows = 0;
+  for (const ScoredRow& row : rows) {
+    if (row.truth.id == 3) {
+      EXPECT_EQ(row.merged_into, 7u);
+      ++merged_rows;
+    } else {
+      EXPECT_EQ(row.merged_into, 0u);
+    }
+  }
+  EXPECT_EQ(merged_rows, 2);
+  EXPECT_NE(toJson(r, "x").find("\"detection_merged\": 2, \"danger_fn_in_flagged_merge\": 1"),
+            std::string::npos);
+  EXPECT_NE(toCsv(rows).find(",merged_into\n"), std::string::npos);
+
+  // The same box left unmatched (no true object near its centre): nothing is merged into it.
+  const TruthObject far_pair = truth(3, 9.2, 0.55, true, 1.0);
+  const std::vector<EvalFrame> alone{
+      frame(0.0, true, {far_pair}, {boxed(8, 9.07, 3.5, 0.16, 3.0, true)})};
+  const EvalReport u = evaluate(alone, EvalParams());
+  EXPECT_EQ(u.detection.tp, 0u);
+  EXPECT_EQ(u.detection_merged, 0u);
 }
 
 TEST(Evaluate, OptimalMatchingNotGreedy) {

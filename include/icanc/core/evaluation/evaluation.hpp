@@ -120,6 +120,13 @@ struct EvalReport {
   // profile's region of interest leaves out the road behind and beside the vehicle that the scored
   // range (max_range_m all around in the simulated scenarios) takes in.
   Confusion detection_roi;
+  // Of detection.fn: true objects whose centre lies inside the box (its axis-aligned bounds) of a
+  // detection matched to another true object: merged with what they stand or walk beside (two
+  // walkers as one box, a walker against a wall, under a shelter's roof), not unseen. Of
+  // danger.fn: dangerous ones whose merged box was flagged dangerous (the lamp came on for the box
+  // that holds them; which of two walkers in one box the matching picks is a coin toss).
+  std::uint64_t detection_merged = 0;
+  std::uint64_t danger_fn_in_flagged_merge = 0;
   std::size_t id_switches = 0;
   double velocity_rmse = 0.0;       // planar, over matched pairs with known truth velocity
   std::size_t velocity_samples = 0;
@@ -191,6 +198,9 @@ struct ScoredRow {
   // With a truth: whether the danger model flagged the true object on its perfect track this frame
   // (EvalReport::perfect_tracks), so a row tells perception's share from the model's.
   bool perfect_flagged = false;
+  // Unmatched, its centre inside the box of the detection matched to another true object: that
+  // detection's id (EvalReport::detection_merged), else 0.
+  std::uint32_t merged_into = 0;
 };
 
 // Distance from a point to the oriented footprint of a true object (0 when inside).
