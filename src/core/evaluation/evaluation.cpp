@@ -49,8 +49,7 @@ int mergedInto(const TruthObject& o, const std::vector<DetectedObject>& dets,
                const std::vector<bool>& matched) {
   for (std::size_t j = 0; j < dets.size(); ++j) {
     const DetectedObject& d = dets[j];
-    if (matched[j] && d.has_aabb && (o.center.array() >= d.aabb_min.array()).all() &&
-        (o.center.array() <= d.aabb_max.array()).all())
+    if (matched[j] && d.has_aabb && Eigen::AlignedBox2d(d.aabb_min, d.aabb_max).contains(o.center))
       return static_cast<int>(j);
   }
   return -1;
@@ -306,11 +305,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       const bool by_match = found && dets[m[i]].dangerous;
       const bool predicted = by_match || flagged_by[i] >= 0;
       const int merged = found ? -1 : mergedInto(o, dets, det_used);
-      if (merged >= 0) {
-        ++r.detection_merged;
-        if (o.dangerous && !predicted && !o.horizon_cut && dets[merged].dangerous)
-          ++r.danger_fn_in_flagged_merge;
-      }
+      if (merged >= 0) ++r.detection_merged;
       if (predicted) {
         flagged_ids.insert(o.id);
         causes.flag(o.horizon_cut ? LampCause::kUnscored
@@ -321,6 +316,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       // Danger unknown (the labels end within the horizon): not scored, as KITTI's DontCare.
       const Outcome outcome = o.horizon_cut ? Outcome::kDontCare : outcomeOf(o.dangerous, predicted);
       count(r.danger, outcome);
+      if (outcome == Outcome::kFalseNegative && merged >= 0 && dets[merged].dangerous)
+        ++r.danger_fn_in_flagged_merge;
       if (rows) {
         ScoredRow row{f.t, outcome, true, o, false, false, DetectedObject()};
         row.perfect_flagged = perfect_flagged.count(o.id) > 0;
