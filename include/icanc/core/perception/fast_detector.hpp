@@ -29,7 +29,8 @@
 //     cluster that is one line of sight is no box when a cluster of its height continues its
 //     surface nearly along that line (grazing_reach_m, grazing_angle_deg), so no box stays where a
 //     column is while the vehicle drives past.
-//  4. optionally (range_split_angle_deg > 0, off in the profiles: docs/performance.md), the
+//  4. optionally (range_split_angle_deg > 0: the KITTI profile; off in the Zebra's and the
+//     Model 3's, docs/experiments.md), the
 //     range-image split of large components: the angle criterion of Bogoslavskyi & Stachniss
 //     between neighbouring returns by azimuth and elevation from the sensor (setSensorOrigin);
 //     pedestrian-sized segments in front of what they border on become their own obstacles.
@@ -37,6 +38,9 @@
 // The beam (ring) of a point is never needed, so organized and unorganized clouds, with or
 // without a ring field, go through the same code. Every buffer lives in the FastDetector and is
 // reused: after the first frames of a given size nothing is allocated per frame.
+//
+// Code: steps 1-2 in src/core/perception/fast_detector.cpp, 3 in fast_clusters.cpp, 4 (and the
+// beam spacing step 3 reads) in range_split.cpp.
 #pragma once
 
 #include <algorithm>
