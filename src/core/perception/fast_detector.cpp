@@ -1,10 +1,10 @@
 #include "icanc/core/perception/fast_detector.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <limits>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
