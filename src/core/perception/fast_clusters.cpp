@@ -22,6 +22,25 @@ std::int32_t FastDetector::find(std::int32_t k) {
   return k;
 }
 
+namespace {
+
+// A floating cell (floor > -inf) joins only what reaches up to within `gap` of it: a roof does
+// not join the pedestrian under it, a wall's top the wall.
+template <class C>
+bool floatsApart(const C& a, const C& b, float gap) {
+  return std::max(a.floor, b.floor) - std::min(a.zmax, b.zmax) >= gap;
+}
+
+// Squared distance between the bounds of two cells' points (0 when they overlap).
+template <class C>
+float pointGap2(const C& a, const C& b) {
+  const float dx = std::max(0.0f, std::max(a.xmin_x - b.xmax_x, b.xmin_x - a.xmax_x));
+  const float dy = std::max(0.0f, std::max(a.ymin_y - b.ymax_y, b.ymin_y - a.ymax_y));
+  return dx * dx + dy * dy;
+}
+
+}  // namespace
+
 void FastDetector::linkCells(bool check_steps, float step_tan) {
   const std::int32_t n = static_cast<std::int32_t>(occupied_.size());
   parent_.resize(occupied_.size());
@@ -45,9 +64,38 @@ void FastDetector::linkCells(bool check_steps, float step_tan) {
       if (slot < 0) continue;
       const Cell& other = cells_[static_cast<std::size_t>(slot)];
       if (check && std::abs(other.zmax - here.zmax) > max_step) continue;
-      // A floating cell (floor > -inf) joins only what reaches up to within `gap` of it: a roof
-      // does not join the pedestrian under it, a wall's top the wall.
-      if (std::max(here.floor, other.floor) - std::min(here.zmax, other.zmax) >= gap) continue;
+      if (floatsApart(here, other, gap)) continue;
+      const std::int32_t a = find(k), b = find(slot);
+      if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    }
+  }
+}
+
+void FastDetector::splitByGaps() {
+  const std::int32_t n = static_cast<std::int32_t>(occupied_.size());
+  boundComponents(gap_root_);
+  const int max_cells = static_cast<int>(params_.link_gap_max_extent_m * inv_cell_ + 1e-3f);
+  gap_small_.resize(occupied_.size());
+  bool any = false;
+  for (std::int32_t k = 0; k < n; ++k) {
+    const auto& b = root_box_[gap_root_[k]];
+    gap_small_[k] = std::max(b[2] - b[0], b[3] - b[1]) + 1 <= max_cells;
+    any = any || gap_small_[k];
+  }
+  if (!any) return;
+  for (std::int32_t k = 0; k < n; ++k) parent_[k] = gap_small_[k] ? k : gap_root_[k];
+  const float gap2 = params_.link_gap_m * params_.link_gap_m;
+  for (std::int32_t k = 0; k < n; ++k) {
+    if (!gap_small_[k]) continue;
+    const int cx = occupied_[k] % nx_, cy = occupied_[k] / nx_;
+    const Cell& here = cells_[static_cast<std::size_t>(k)];
+    for (const auto& d : forward_) {
+      const int x = cx + d.first, y = cy + d.second;
+      if (x < 0 || x >= nx_ || y >= ny_) continue;
+      const std::int32_t slot = cell_slot_[static_cast<std::size_t>(y) * nx_ + x];
+      if (slot < 0 || gap_root_[slot] != gap_root_[k]) continue;
+      const Cell& other = cells_[static_cast<std::size_t>(slot)];
+      if (floatsApart(here, other, params_.overhang_gap_m) || pointGap2(here, other) > gap2) continue;
       const std::int32_t a = find(k), b = find(slot);
       if (a != b) parent_[std::max(a, b)] = std::min(a, b);
     }
@@ -104,6 +152,7 @@ void FastDetector::clusterAndFit(std::vector<Box3D>& boxes) {
         parent_[k] = carved_[k] ? piece_root_[k] : rest_[first_root_[k]];
     }
   }
+  if (params_.link_gap_m > 0.0f) splitByGaps();
 
   clusters_.clear();
   cluster_of_root_.assign(occupied_.size(), -1);

@@ -53,6 +53,11 @@ std::string validate(const FastDetectorParams& p) {
     why << "fast.grazing_reach_m must be in [0, 10] (got " << p.grazing_reach_m << ")";
   } else if (!(p.grazing_angle_deg >= 0.0f && p.grazing_angle_deg < 90.0f)) {
     why << "fast.grazing_angle_deg must be in [0, 90) (got " << p.grazing_angle_deg << ")";
+  } else if (!(p.link_gap_m >= 0.0f && p.link_gap_m <= 10.0f)) {
+    why << "fast.link_gap_m must be in [0, 10] (got " << p.link_gap_m << ")";
+  } else if (!(p.link_gap_max_extent_m > 0.0f && p.link_gap_max_extent_m <= 1000.0f)) {
+    why << "fast.link_gap_max_extent_m must be in (0, 1000] (got " << p.link_gap_max_extent_m
+        << ")";
   } else if (p.min_points < 1) {
     why << "fast.min_points must be >= 1 (got " << p.min_points << ")";
   } else if (p.max_points < p.min_points) {
@@ -155,8 +160,8 @@ std::size_t FastDetector::capacityBytes() const {
           cluster_of_root_.capacity()) * sizeof(std::int32_t) +
          clusters_.capacity() * sizeof(Cluster) + footprint_.capacity() * sizeof(cv::Point2f) +
          first_root_.capacity() * sizeof(std::int32_t) + root_box_.capacity() * sizeof(root_box_[0]) +
-         long_.capacity() + carved_.capacity() +
-         (piece_root_.capacity() + rest_.capacity()) * sizeof(std::int32_t) +
+         long_.capacity() + carved_.capacity() + gap_small_.capacity() +
+         (piece_root_.capacity() + rest_.capacity() + gap_root_.capacity()) * sizeof(std::int32_t) +
          obstacle_index_.capacity() * sizeof(std::uint32_t) +
          (ray_begin_.capacity() + pixel_ray_.capacity() +
           pixel_parent_.capacity()) * sizeof(std::int32_t) +

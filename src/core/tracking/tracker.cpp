@@ -231,6 +231,30 @@ bool atRegionEdge(const Eigen::Vector2f& p, const Eigen::Vector2f& dir, const Tr
   return false;
 }
 
+// True when the box, seen from the sensor, lies wholly behind the detection of span s: each of
+// its bearings within s's, and the detection at least kOcclusionDepthM nearer there (at the
+// box's two ends, a tenth of its span inward, and its middle).
+bool hiddenBehind(const BearingSpan& own, const BearingSpan& s, const Box3D& detection,
+                  const Eigen::Vector2f& origin) {
+  if (!own.valid || !s.valid || !(s.near_range <= own.near_range - kOcclusionDepthM)) return false;
+  const float shift = wrapAngle(s.bearing - own.bearing);
+  if (!(shift + s.lo <= own.lo && shift + s.hi >= own.hi)) return false;
+  const float inward = 0.1f * (own.hi - own.lo);
+  for (const float rel : {own.lo + inward, 0.5f * (own.lo + own.hi), own.hi - inward}) {
+    const float at = own.bearing + rel;
+    const Eigen::Vector2f u(std::cos(at), std::sin(at));
+    if (!(rangeAlong(detection, origin, u) <= own.near_range - kOcclusionDepthM)) return false;
+  }
+  return true;
+}
+
+// A detection where a held track is predicted: its box, grown by margin_m, holds the predicted
+// centre, or its centre lies in the predicted box grown by as much.
+bool nearPrediction(const Box3D& predicted, const Box3D& detection, double margin_m) {
+  return planarContains(detection, predicted.center, margin_m) ||
+         planarContains(predicted, detection.center, margin_m);
+}
+
 // Which part of the box the filter follows along one axis. kSteadier: of the two faces, the one
 // that moved less against the prediction (a face hidden by a nearer object on one side: its
 // shadow's edge moves with that object, and the other side may be hidden by the object itself).
@@ -429,6 +453,8 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.merge_hold_m must be >= 0 (got " << p.merge_hold_m << ")";
   } else if (p.merge_hold_frames < 0) {
     why << "tracker.merge_hold_frames must be >= 0 (got " << p.merge_hold_frames << ")";
+  } else if (p.hidden_hold_frames < 0) {
+    why << "tracker.hidden_hold_frames must be >= 0 (got " << p.hidden_hold_frames << ")";
   } else if (!(p.robust_sigma >= 0.0) || !std::isfinite(p.robust_sigma)) {
     why << "tracker.robust_sigma must be >= 0 (got " << p.robust_sigma << ")";
   } else if (p.anchor != TrackAnchor::kCentre && p.anchor != TrackAnchor::kNearestFace) {
@@ -454,6 +480,13 @@ void MultiObjectTracker::reset() {
   has_stamp_ = false;
 }
 
+double MultiObjectTracker::holdMargin(const Track& track) const {
+  // Plus three standard deviations of where the filter predicts it: a young track, its velocity
+  // still unknown, is not held to a place it does not know (a walker entering a counter's box).
+  const auto& P = track.filter.covariance();
+  return params_.merge_hold_m + 3.0 * std::sqrt(std::max(P(0, 0), P(1, 1)));
+}
+
 void MultiObjectTracker::holdTracksInsideDetections(const std::vector<Box3D>& detections) {
   const int num_tracks = static_cast<int>(tracks_.size());
   const int num_detections = static_cast<int>(detections.size());
@@ -475,20 +508,34 @@ void MultiObjectTracker::holdTracksInsideDetections(const std::vector<Box3D>& de
   for (int i = 0; i < num_tracks; ++i) {
     if (!track_held_[i]) continue;
     const Box3D& predicted = tracks_[i].box;
-    // Plus three standard deviations of where the filter predicts it: a young track, its velocity
-    // still unknown, is not held to a place it does not know (a walker entering a counter's box).
-    const auto& P = tracks_[i].filter.covariance();
-    const double margin = params_.merge_hold_m + 3.0 * std::sqrt(std::max(P(0, 0), P(1, 1)));
+    const double margin = holdMargin(tracks_[i]);
     for (int j = 0; j < num_detections; ++j) {
       if (cost_(i, j) >= kForbiddenCost) continue;
       // A box that holds several tracks (a merge) goes to the one it fits best; the others coast
       // inside it. Else the assignment, which pairs as many as it can, gave it to the smaller
       // track and the bigger one a sliver beside it (a pedestrian's and a parked car's tracks).
       const bool taken_by_another = best_inside_[j] >= 0 && best_inside_[j] != i && inside(i, j);
-      const bool near = planarContains(detections[j], predicted.center, margin) ||
-                        planarContains(predicted, detections[j].center, margin);
-      if (taken_by_another || !near) cost_(i, j) = kForbiddenCost;
+      if (taken_by_another || !nearPrediction(predicted, detections[j], margin))
+        cost_(i, j) = kForbiddenCost;
     }
+  }
+}
+
+void MultiObjectTracker::holdHiddenTracks(const std::vector<Box3D>& detections,
+                                          const TrackerView& view) {
+  const int num_tracks = static_cast<int>(tracks_.size());
+  const int num_detections = static_cast<int>(detections.size());
+  track_hidden_.assign(num_tracks, 0);
+  for (int i = 0; i < num_tracks; ++i) {
+    const BearingSpan own = bearingSpan(tracks_[i].box, view.origin);
+    for (int j = 0; j < num_detections && !track_hidden_[i]; ++j)
+      track_hidden_[i] = hiddenBehind(own, spans_[j], detections[j], view.origin);
+    if (!track_hidden_[i]) continue;
+    // What is seen where it is predicted is still its own (a box's outline overstates the bearings
+    // a near object hides: a walker 1 m away "hid" the bin 5 m behind it and beside it).
+    const double margin = holdMargin(tracks_[i]);
+    for (int j = 0; j < num_detections; ++j)
+      if (!nearPrediction(tracks_[i].box, detections[j], margin)) cost_(i, j) = kForbiddenCost;
   }
 }
 
@@ -558,18 +605,20 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                               params_.iou_weight * (1.0 - bevIoU(predicted, detection));
     }
   }
-  const bool hold_merges = params_.merge_hold_m > 0.0f;
-  if (hold_merges) holdTracksInsideDetections(detections);
-  solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
-                              assignment_workspace_, track_to_detection_);
-
-  // The detections seen from the sensor: which faces end where a nearer object hides the rest.
+  // The detections seen from the sensor: which faces end where a nearer object hides the rest,
+  // and which tracks it hides whole.
+  const bool hold_hidden = params_.hidden_hold_frames > 0;
   spans_.clear();
-  if (params_.occlusion_gap_deg > 0.0f) {
+  if (params_.occlusion_gap_deg > 0.0f || hold_hidden) {
     for (const Box3D& detection : detections) spans_.push_back(bearingSpan(detection, view.origin));
   } else {
     spans_.resize(detections.size());  // invalid: never read
   }
+  const bool hold_merges = params_.merge_hold_m > 0.0f;
+  if (hold_merges) holdTracksInsideDetections(detections);
+  if (hold_hidden) holdHiddenTracks(detections, view);
+  solveAssignmentByComponents(cost_.topLeftCorner(num_tracks, num_detections),
+                              assignment_workspace_, track_to_detection_);
 
   // Update matched tracks, age every track, drop the ones missed too often.
   const double measurement_variance = params_.measurement_std_m * params_.measurement_std_m;
@@ -594,6 +643,8 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
       track.held = 0;
     } else if (hold_merges && track_held_[i] && track.held < params_.merge_hold_frames) {
       ++track.held;  // inside a detection another track took: merged, not gone
+    } else if (hold_hidden && track_hidden_[i] && track.held < params_.hidden_hold_frames) {
+      ++track.held;  // behind a nearer object: hidden, not gone
     } else {
       ++track.missed;
     }

@@ -196,6 +196,53 @@ TEST(FastDetector, PedestrianAgainstATallerWallStaysApart) {
   EXPECT_EQ(boxes.size(), 1u);
 }
 
+// Issue 22, item 1: two walkers side by side 0.3 m apart (mount_robot16_clutter's pair) fall
+// into touching cells of the 0.25 m grid, so link_m makes them one box; with link_gap_m the
+// cells link only where their points come within 0.25 m: two boxes. A car whose hood and cabin
+// are 0.3 m apart (glass without returns) is larger than link_gap_max_extent_m and stays whole;
+// without that limit it falls apart too.
+TEST(FastDetector, PointGapPartsWalkersSideBySideButNotACar) {
+  Cloud cloud;
+  addGround(cloud, 30.0f, [](float, float) { return kFlat; });
+  addBlock(cloud, {8.0f, 0.0f, kFlat + 0.4f}, {8.4f, 0.4f, kFlat + 1.7f}, 0.05f);  // walker
+  addBlock(cloud, {8.0f, 0.7f, kFlat + 0.4f}, {8.4f, 1.1f, kFlat + 1.65f}, 0.05f);  // walker
+  addBlock(cloud, {10.0f, 3.0f, kFlat + 0.4f}, {11.0f, 4.8f, kFlat + 0.9f}, 0.1f);  // hood
+  addBlock(cloud, {11.3f, 3.0f, kFlat + 0.4f}, {14.5f, 4.8f, kFlat + 1.5f}, 0.1f);  // cabin
+  const auto walkersAndCars = [](const std::vector<Box3D>& boxes, int& walkers, int& cars) {
+    walkers = cars = 0;
+    for (const Box3D& b : boxes) {
+      if (b.center.x() < 9.0f) ++walkers;
+      else ++cars;
+    }
+  };
+  std::vector<Box3D> boxes;
+  int walkers = 0, cars = 0;
+  FastDetector shipped(wideRoi(), FastDetectorParams());
+  shipped.detect(cloud, boxes);
+  walkersAndCars(boxes, walkers, cars);
+  EXPECT_EQ(walkers, 1);  // one box for the pair
+  EXPECT_EQ(cars, 1);
+
+  FastDetectorParams gap;
+  gap.link_gap_m = 0.25f;
+  FastDetector parted(wideRoi(), gap);
+  parted.detect(cloud, boxes);
+  walkersAndCars(boxes, walkers, cars);
+  EXPECT_EQ(walkers, 2);
+  EXPECT_EQ(cars, 1);
+  for (const Box3D& b : boxes) {
+    if (b.center.x() > 9.0f) EXPECT_NEAR(b.size.x(), 4.5f, 0.1f);  // the car whole
+    else EXPECT_LT(b.size.y(), 0.5f);                              // each walker alone
+  }
+
+  gap.link_gap_max_extent_m = 100.0f;  // every component
+  FastDetector every(wideRoi(), gap);
+  every.detect(cloud, boxes);
+  walkersAndCars(boxes, walkers, cars);
+  EXPECT_EQ(walkers, 2);
+  EXPECT_EQ(cars, 2);  // hood and cabin
+}
+
 TEST(FastDetector, ClusterSizeLimitsApply) {
   Cloud cloud;
   addGround(cloud, 30.0f, [](float, float) { return kFlat; });
@@ -618,6 +665,12 @@ TEST(FastDetector, InvalidParametersAreNamed) {
   p = FastDetectorParams();
   p.grazing_angle_deg = 90.0f;
   EXPECT_NE(validate(p).find("fast.grazing_angle_deg"), std::string::npos);
+  p = FastDetectorParams();
+  p.link_gap_m = -0.1f;
+  EXPECT_NE(validate(p).find("fast.link_gap_m"), std::string::npos);
+  p = FastDetectorParams();
+  p.link_gap_max_extent_m = 0.0f;
+  EXPECT_NE(validate(p).find("fast.link_gap_max_extent_m"), std::string::npos);
   p = FastDetectorParams();
   p.max_points = 5;
   EXPECT_NE(validate(p).find("fast.max_points"), std::string::npos);

@@ -57,6 +57,7 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/occlusion_gap_deg", p.tracker.occlusion_gap_deg);
   r("tracker/merge_hold_m", p.tracker.merge_hold_m);
   r("tracker/merge_hold_frames", p.tracker.merge_hold_frames);
+  r("tracker/hidden_hold_frames", p.tracker.hidden_hold_frames);
   r("fast/cell_m", p.fast.cell_m);
   r("fast/link_m", p.fast.link_m);
   r("fast/link_max_step_m", p.fast.link_max_step_m);
@@ -73,6 +74,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("fast/overhang_min_height_m", p.fast.overhang_min_height_m);
   r("fast/grazing_reach_m", p.fast.grazing_reach_m);
   r("fast/grazing_angle_deg", p.fast.grazing_angle_deg);
+  r("fast/link_gap_m", p.fast.link_gap_m);
+  r("fast/link_gap_max_extent_m", p.fast.link_gap_max_extent_m);
   r("fast/min_points", p.fast.min_points);
   r("fast/max_points", p.fast.max_points);
   r("fast/range_split_angle_deg", p.fast.range_split_angle_deg);

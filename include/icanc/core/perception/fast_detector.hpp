@@ -22,7 +22,10 @@
 //     differ by at most link_max_step_m (or, with link_step_beams, by the sensor's beam spacing
 //     at their range, measured from the returns: where a sparse scan's top beam leaves a wall's
 //     top), and the small pieces that gives (at most
-//     step_piece_max_m across: a pedestrian, a pole) come apart from the rest; cluster size
+//     step_piece_max_m across: a pedestrian, a pole) come apart from the rest; with link_gap_m
+//     (the Zebra profile), inside components at most link_gap_max_extent_m across cells link only
+//     where the bounds of their points come within link_gap_m (two walkers side by side, 0.3 m
+//     apart, fall into touching cells); cluster size
 //     limits on points, one box per cluster from its footprint (fitBoxFootprint, shared with the
 //     classic chain). Surfaces seen at grazing incidence (a parked car's side): the scan's columns
 //     land further apart on them than link_m, a cluster each, at bearings fixed to the sensor; a
@@ -106,6 +109,13 @@ struct FastDetectorParams {
                                     // its top within link_max_step_m of its own, continues its
                                     // surface; 0: off [m]
   float grazing_angle_deg = 20.0f;  // ... at most this far off the line of sight [deg]
+  // Point-gap link (issue 22, item 1): > 0: inside components at most link_gap_max_extent_m
+  // across (a pedestrian, a pair of them, a pole and its walker), neighbouring cells link only
+  // when the bounds of their points come within this: two walkers 0.3 m apart whose points fall
+  // into touching cells come apart; a car's glass (a gap between its body's rows) is no gap
+  // across its footprint. 0: off [m].
+  float link_gap_m = 0.0f;
+  float link_gap_max_extent_m = 2.0f;  // larger components (cars, walls) keep their links [m]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
   // Range-image split (issue 22, item 1; Bogoslavskyi & Stachniss's angle criterion): the points
@@ -228,6 +238,9 @@ class FastDetector {
   void linkCells(bool check_steps, float step_tan = 0.0f);
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
+  // Relinks the cells of the components at most link_gap_max_extent_m across by the gap between
+  // their points' bounds (link_gap_m): parent_ in, parent_ out.
+  void splitByGaps();
   void clusterAndFit(std::vector<Box3D>& boxes);
   // A cell's extreme points into a footprint, each distinct one once (a cell of one return gives
   // one point, not four: the same hull and footprint cells, less to sort and bin).
@@ -290,6 +303,8 @@ class FastDetector {
   std::vector<std::int32_t> piece_root_;     // root of each slot after linking with steps
   std::vector<std::int32_t> rest_;           // per first root: a slot of what is not carved out
   std::vector<std::uint8_t> carved_;         // per slot: in a small piece of a long component
+  std::vector<std::int32_t> gap_root_;       // root of each slot before splitByGaps
+  std::vector<std::uint8_t> gap_small_;      // per slot: in a component splitByGaps relinks
   std::vector<cv::Point2f> footprint_;
   std::vector<std::pair<int, int>> forward_;  // neighbour offsets linked "forward" (half window)
   std::size_t obstacle_points_ = 0;

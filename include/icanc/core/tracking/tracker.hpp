@@ -94,6 +94,13 @@ struct TrackerParams {
   // (merged with what it walks beside) coasts up to this many such frames before a miss counts,
   // so it is there to take its own box back when the two come apart.
   int merge_hold_frames = 0;
+  // > 0: a track whose predicted box lies wholly behind a nearer detection, seen from the sensor
+  // (every bearing of it within that detection's, which is at least 0.5 m nearer there), is held
+  // where it is, as a merged one (merge_hold_m): it takes only a detection near its prediction,
+  // else coasts, up to this many such frames before a miss counts. What shows beside or through
+  // the nearer object meanwhile (a sliver of the car behind a walker) is not its object: taken,
+  // its edge, which moves with the nearer object's shadow, was read as the track's motion. 0: off.
+  int hidden_hold_frames = 0;
 };
 
 std::string validate(const TrackerParams& params);
@@ -167,6 +174,11 @@ class MultiObjectTracker {
  private:
   // merge_hold_m: forbids (in cost_) what a track inside a detection may not take.
   void holdTracksInsideDetections(const std::vector<Box3D>& detections);
+  // hidden_hold_frames: marks the tracks wholly behind a nearer detection (track_hidden_) and
+  // forbids them (in cost_) every detection but one where they are predicted.
+  void holdHiddenTracks(const std::vector<Box3D>& detections, const TrackerView& view);
+  // How far from its prediction a held track may take a detection [m].
+  double holdMargin(const Track& track) const;
 
   TrackerParams params_;
   std::vector<Track> tracks_;
@@ -181,6 +193,7 @@ class MultiObjectTracker {
   std::vector<int> track_to_detection_;
   std::vector<char> detection_used_;
   std::vector<char> track_held_;  // its predicted centre inside a detection (merge_hold_m)
+  std::vector<char> track_hidden_;  // wholly behind a nearer detection (hidden_hold_frames)
   std::vector<int> best_inside_;  // per detection: the track inside it it fits best, or -1
 };
 
