@@ -112,10 +112,10 @@ struct FastDetectorParams {
   // Point-gap link (issue 22, item 1): > 0: inside components at most link_gap_max_extent_m
   // across (a pedestrian, a pair of them, a pole and its walker), neighbouring cells link only
   // when the bounds of their points come within this: two walkers 0.3 m apart whose points fall
-  // into touching cells come apart; a car's glass (a gap between its body's rows) is no gap
-  // across its footprint. 0: off [m].
+  // into touching cells come apart. 0: off [m].
   float link_gap_m = 0.0f;
-  float link_gap_max_extent_m = 2.0f;  // larger components (cars, walls) keep their links [m]
+  float link_gap_max_extent_m = 2.0f;  // larger components keep their links: on every component
+                                       // the gap cut KITTI's cars at their glass [m]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
   // Range-image split (issue 22, item 1; Bogoslavskyi & Stachniss's angle criterion): the points
