@@ -41,33 +41,39 @@ float pointGap2(const C& a, const C& b) {
 
 }  // namespace
 
+template <class Links>
+void FastDetector::linkForward(std::int32_t k, const Links& links) {
+  const int cx = occupied_[k] % nx_, cy = occupied_[k] / nx_;
+  for (const auto& d : forward_) {
+    const int x = cx + d.first, y = cy + d.second;
+    if (x < 0 || x >= nx_ || y >= ny_) continue;
+    const std::int32_t slot = cell_slot_[static_cast<std::size_t>(y) * nx_ + x];
+    if (slot < 0 || !links(slot)) continue;
+    const std::int32_t a = find(k), b = find(slot);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+}
+
 void FastDetector::linkCells(bool check_steps, float step_tan) {
   const std::int32_t n = static_cast<std::int32_t>(occupied_.size());
   parent_.resize(occupied_.size());
   std::iota(parent_.begin(), parent_.end(), 0);
   const float gap = params_.overhang_gap_m;
   for (std::int32_t k = 0; k < n; ++k) {
-    const int cell = occupied_[k];
-    const int cx = cell % nx_, cy = cell / nx_;
     const Cell& here = cells_[static_cast<std::size_t>(k)];
     const bool check = check_steps && long_[first_root_[k]];
     float max_step = params_.link_max_step_m;
     if (check && step_tan > 0.0f) {  // one beam spacing at this cell's range from the sensor
+      const int cx = occupied_[k] % nx_, cy = occupied_[k] / nx_;
       const float range = std::hypot(prep_.roi_min.x() + (cx + 0.5f) * params_.cell_m - sensor_origin_.x(),
                                      prep_.roi_min.y() + (cy + 0.5f) * params_.cell_m - sensor_origin_.y());
       max_step = std::max(max_step, range * step_tan);
     }
-    for (const auto& d : forward_) {
-      const int x = cx + d.first, y = cy + d.second;
-      if (x < 0 || x >= nx_ || y >= ny_) continue;
-      const std::int32_t slot = cell_slot_[static_cast<std::size_t>(y) * nx_ + x];
-      if (slot < 0) continue;
+    linkForward(k, [&](std::int32_t slot) {
       const Cell& other = cells_[static_cast<std::size_t>(slot)];
-      if (check && std::abs(other.zmax - here.zmax) > max_step) continue;
-      if (floatsApart(here, other, gap)) continue;
-      const std::int32_t a = find(k), b = find(slot);
-      if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
+      if (check && std::abs(other.zmax - here.zmax) > max_step) return false;
+      return !floatsApart(here, other, gap);
+    });
   }
 }
 
@@ -87,18 +93,12 @@ void FastDetector::splitByGaps() {
   const float gap2 = params_.link_gap_m * params_.link_gap_m;
   for (std::int32_t k = 0; k < n; ++k) {
     if (!gap_small_[k]) continue;
-    const int cx = occupied_[k] % nx_, cy = occupied_[k] / nx_;
     const Cell& here = cells_[static_cast<std::size_t>(k)];
-    for (const auto& d : forward_) {
-      const int x = cx + d.first, y = cy + d.second;
-      if (x < 0 || x >= nx_ || y >= ny_) continue;
-      const std::int32_t slot = cell_slot_[static_cast<std::size_t>(y) * nx_ + x];
-      if (slot < 0 || gap_root_[slot] != gap_root_[k]) continue;
+    linkForward(k, [&](std::int32_t slot) {
       const Cell& other = cells_[static_cast<std::size_t>(slot)];
-      if (floatsApart(here, other, params_.overhang_gap_m) || pointGap2(here, other) > gap2) continue;
-      const std::int32_t a = find(k), b = find(slot);
-      if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
+      return gap_root_[slot] == gap_root_[k] && !floatsApart(here, other, params_.overhang_gap_m) &&
+             pointGap2(here, other) <= gap2;
+    });
   }
 }
 

@@ -236,6 +236,10 @@ class FastDetector {
   // Union-find over occupied_ into parent_; with check_steps, tops may differ by
   // max(link_max_step_m, range * step_tan) inside long components.
   void linkCells(bool check_steps, float step_tan = 0.0f);
+  // Unites slot k with each occupied neighbour of the forward half window for which
+  // links(neighbour slot) holds (the one neighbour walk of linkCells and splitByGaps).
+  template <class Links>
+  void linkForward(std::int32_t k, const Links& links);
   // Each slot's root into root_of, each root's cell bounds into root_box_.
   void boundComponents(std::vector<std::int32_t>& root_of);
   // Relinks the cells of the components at most link_gap_max_extent_m across by the gap between
