@@ -222,6 +222,11 @@ std::vector<EvalFrame> replayBag(ros::NodeHandle& nh, const ReplayOptions& opt) 
            (!has_path || path_pub.getNumSubscribers() > 0);
   }, opt.graph_timeout_s);
   if (!up) throw std::runtime_error("the icanc graph in " + opt.ns + " did not come up");
+  // The first cloud's motion goes out before the settling pause: a later cloud's samples left with
+  // the cloud before it, a processed frame ago; without this the first cloud could overtake its
+  // own (the LiDAR odometry then ran that frame without the measured twist, and the run's counts
+  // moved from one replay to the next).
+  publishMotionUpTo(clouds.begin()->getTime() + motion_ahead);
   ros::WallDuration(0.3).sleep();  // let the connections settle
 
   std::vector<EvalFrame> frames;
