@@ -23,25 +23,18 @@
 #include <string>
 #include <vector>
 
-#include <time.h>
-
 #include "icanc/core/common/percentile.hpp"
 #include "icanc/core/common/planar_geometry.hpp"
 #include "icanc/core/evaluation/kitti.hpp"
 #include "icanc/core/motion/lidar_odometry.hpp"
 #include "icanc/core/common/yaml_params.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace {
 
 using icanc::percentile;
 
-// CPU time of this thread [ms]: unlike wall time, not inflated by other work on the machine
-// (cache sharing still is), so the cost per frame can be read on a loaded machine too.
-double threadCpuMs() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
+using icanc::tools::threadCpuMs;
 
 using Track = std::map<int, Eigen::Vector3d>;  // frame -> centre in the velodyne frame
 
