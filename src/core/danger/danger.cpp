@@ -110,6 +110,11 @@ double closestPointDistance(const Eigen::Vector3d& aabb_min, const Eigen::Vector
   return closestPoint(aabb_min, aabb_max).norm();
 }
 
+double staticPriorShrink(double v, double t) {
+  if (!(t > 0.0)) return v;
+  return std::abs(v) > t ? v * (1.0 - (t / v) * (t / v)) : 0.0;
+}
+
 bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
   return object.hits > 0 && object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
 }
@@ -144,10 +149,9 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   const double ego_w = object.ego_yaw_rate;
   Eigen::Vector2d ground_v = object.velocity.head<2>() + ego_v +
                              ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
-  // The static-world prior: each axis shrunk toward zero by k sigma (soft threshold).
-  const Eigen::Vector2d shrink = params.static_prior_k * Eigen::Vector2d(sigma_x, sigma_y);
-  for (int axis = 0; axis < 2; ++axis)
-    ground_v[axis] = std::copysign(std::max(0.0, std::abs(ground_v[axis]) - shrink[axis]), ground_v[axis]);
+  // The static-world prior, per axis with its own sigma.
+  ground_v.x() = staticPriorShrink(ground_v.x(), params.static_prior_k * sigma_x);
+  ground_v.y() = staticPriorShrink(ground_v.y(), params.static_prior_k * sigma_y);
   // Along the planner's path while moving forward (at the speed over ground), else the twist.
   const EgoPath* const path = object.ego_path && !object.ego_path->empty() && alongPlannedPath(ego_v)
                                   ? object.ego_path.get()

@@ -52,10 +52,12 @@ struct DangerParams {
   // grid's centroids inside the surface): the footprint grows by this much on every side [m].
   double footprint_margin_m = 0.0;
   // The world mostly stands still: the object's velocity over ground (relative velocity + the
-  // vehicle's at the object) is shrunk toward zero by static_prior_k * sigma per axis before it is
-  // extrapolated, so a young track of a parked car or a fragment, whose velocity is still mostly
-  // noise, does not fly across the corridor on it; a settled track (sigma 0.04 m/s) keeps its
-  // velocity. Meaningful with ego motion (velocities over ground); 0 = off.
+  // vehicle's at the object) is shrunk toward zero per axis before it is extrapolated
+  // (staticPriorShrink with static_prior_k * sigma), so a young track of a parked car or a
+  // fragment, whose velocity is still mostly noise, does not fly across the corridor on it, while
+  // an object that clearly moves (a car ahead at the vehicle's speed) keeps nearly all of its
+  // speed; a settled track (sigma 0.04 m/s) keeps its velocity. Meaningful with ego motion
+  // (velocities over ground); 0 = off.
   double static_prior_k = 0.0;
   // The vehicle's predicted path turns at the current yaw rate until its heading has changed by
   // this much, then goes straight on [rad]: a turn ends (a bend, a lane change, the LiDAR
@@ -173,6 +175,13 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
 // (separating axes), not by its axis-aligned bounds. With no ego twist this is the footprint
 // moving at the relative velocity against the corridor ahead.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
+
+// The static-world prior on one velocity component v with threshold t = k * sigma >= 0: the
+// non-negative garrote (Breiman 1995), v * (1 - t^2 / v^2) beyond t, 0 within it. Continuous, as
+// the soft threshold (|v| - t) it replaced, but it takes t^2 / |v| from a clearly moving object
+// instead of t: a car 10 m ahead driving at the vehicle's speed with a young track's sigma of
+// 0.76 m/s keeps 9.6 of its 9.8 m/s rather than 8.3 (which brought it 3 m closer over 2 s).
+double staticPriorShrink(double v, double t);
 
 // A track with fewer than params.motion_min_hits detections (hits known, i.e. > 0).
 bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params);
