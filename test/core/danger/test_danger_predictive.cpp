@@ -219,70 +219,6 @@ DangerParams roadCar() {
   return p;
 }
 
-// Issue 19: the static-world prior (static_prior_k) as the non-negative garrote.
-TEST(DangerPredictiveStaticPrior, TheGarroteZeroesNoiseAndBarelyTouchesClearMotion) {
-  EXPECT_EQ(staticPriorShrink(0.3, 0.4), 0.0);    // within k sigma: standing still
-  EXPECT_EQ(staticPriorShrink(-0.4, 0.4), 0.0);   // at the threshold: continuous, 0
-  EXPECT_NEAR(staticPriorShrink(0.8, 0.4), 0.6, 1e-12);    // 0.8 * (1 - 1/4)
-  EXPECT_NEAR(staticPriorShrink(-0.8, 0.4), -0.6, 1e-12);  // the sign kept
-  EXPECT_NEAR(staticPriorShrink(9.837, 1.52), 9.602, 1e-3);  // the soft threshold gave 8.317
-  EXPECT_EQ(staticPriorShrink(1.5, 0.0), 1.5);    // k 0 or sigma 0: off
-  EXPECT_EQ(staticPriorShrink(1.5, -1.0), 1.5);
-  // Never more than the soft threshold takes, never past zero.
-  for (double v = -5.0; v <= 5.0; v += 0.125) {
-    const double s = staticPriorShrink(v, 0.5);
-    EXPECT_LE(std::abs(v) - std::abs(s), 0.5 + 1e-12) << v;
-    EXPECT_GE(s * v, 0.0) << v;
-    EXPECT_LE(std::abs(s), std::abs(v)) << v;
-  }
-}
-
-// The Model 3's corridor: |y| <= 1.2 + 0.3 m, 0 <= x <= 2.4 + 5 m, 2 s, k 2, the vehicle at 10 m/s.
-DangerParams model3Predictive() {
-  DangerParams p = roadCar();
-  p.vehicle_front_m = 2.4;
-  p.velocity_std_k = 1.0;
-  p.uncertainty_cap_m = 0.5;
-  p.footprint_margin_m = 0.05;
-  p.static_prior_k = 2.0;
-  return p;
-}
-
-ObjectKinematics seenFrom10MetresPerSecond(double x0, double x1, double y0, double y1,
-                                           double relative_vx, double relative_vy, double sigma) {
-  ObjectKinematics o;
-  o.aabb_min = Eigen::Vector3d(x0, y0, 0.0);
-  o.aabb_max = Eigen::Vector3d(x1, y1, 1.5);
-  o.center = 0.5 * (o.aabb_min + o.aabb_max);
-  o.velocity = Eigen::Vector3d(relative_vx, relative_vy, 0.0);
-  o.velocity_std = Eigen::Vector2d(sigma, sigma);
-  o.ego_velocity = Eigen::Vector2d(10.0, 0.0);
-  return o;
-}
-
-TEST(DangerPredictiveStaticPrior, SomethingDrivingAheadAtTheVehiclesSpeedIsNotSlowedIntoTheCorridor) {
-  // night_parked_cars at 11.4 s: a young track (sigma 0.76 m/s) 9.8 m ahead, its edge in the
-  // corridor, moving with the vehicle (-0.16 m/s relative, 9.84 over ground). Soft-thresholded to
-  // 8.32 m/s it closed 3.4 m in 2 s and was flagged; the garrote keeps 9.60.
-  const DangerParams p = model3Predictive();
-  const ObjectKinematics ahead = seenFrom10MetresPerSecond(9.82, 10.24, -3.09, -1.25, -0.163, 0.0, 0.76);
-  EXPECT_FALSE(assessDanger(ahead, p).dangerous);
-  // The same box standing still (a parked car's corner in the lane) is reached within 2 s.
-  const ObjectKinematics parked = seenFrom10MetresPerSecond(9.82, 10.24, -3.09, -1.25, -10.0, 0.0, 0.76);
-  EXPECT_TRUE(assessDanger(parked, p).dangerous);
-}
-
-TEST(DangerPredictiveStaticPrior, AParkedCarsVelocityNoiseIsTakenAsStandingStill) {
-  // A parked car's side 0.5 m outside the corridor, 10 m ahead, its young track reading 0.3 m/s
-  // toward the lane (sigma 0.2 m/s): within 2 sigma, so it stands (the footprint grows by the
-  // sigma alone, 0.35 m by the time it has passed); without the prior it drifts 0.44 m more, in.
-  DangerParams p = model3Predictive();
-  const ObjectKinematics parked = seenFrom10MetresPerSecond(10.0, 14.6, -3.8, -2.0, -10.0, 0.3, 0.2);
-  EXPECT_FALSE(assessDanger(parked, p).dangerous);
-  p.static_prior_k = 0.0;
-  EXPECT_TRUE(assessDanger(parked, p).dangerous);
-}
-
 // A static object at `center` (vehicle frame) seen from the vehicle on the bend: its relative
 // velocity is minus the velocity of the vehicle-fixed point there, and the array carries the twist.
 ObjectKinematics staticOnBend(const Eigen::Vector2d& center, double half_x, double half_y,
@@ -402,6 +338,62 @@ TEST(DangerPredictiveEgoPath, TheHeadingChangeCapIsValidated) {
   EXPECT_NE(validate(p).find("max_heading_change_rad"), std::string::npos);
   p.max_heading_change_rad = 0.3;
   EXPECT_EQ(validate(p), "");
+}
+
+// Issue 19: the static-world prior (static_prior_k) as the non-negative garrote.
+TEST(DangerPredictiveStaticPrior, TheGarroteZeroesNoiseAndBarelyTouchesClearMotion) {
+  EXPECT_EQ(staticPriorShrink(0.3, 0.4), 0.0);    // within k sigma: standing still
+  EXPECT_EQ(staticPriorShrink(-0.4, 0.4), 0.0);   // at the threshold: continuous, 0
+  EXPECT_NEAR(staticPriorShrink(0.8, 0.4), 0.6, 1e-12);    // 0.8 * (1 - 1/4)
+  EXPECT_NEAR(staticPriorShrink(-0.8, 0.4), -0.6, 1e-12);  // the sign kept
+  EXPECT_NEAR(staticPriorShrink(9.837, 1.52), 9.602, 1e-3);  // the soft threshold gave 8.317
+  EXPECT_EQ(staticPriorShrink(1.5, 0.0), 1.5);    // k 0 or sigma 0: off
+  EXPECT_EQ(staticPriorShrink(1.5, -1.0), 1.5);
+  // Never more than the soft threshold takes, never past zero.
+  for (double v = -5.0; v <= 5.0; v += 0.125) {
+    const double s = staticPriorShrink(v, 0.5);
+    EXPECT_LE(std::abs(v) - std::abs(s), 0.5 + 1e-12) << v;
+    EXPECT_GE(s * v, 0.0) << v;
+    EXPECT_LE(std::abs(s), std::abs(v)) << v;
+  }
+}
+
+// The Model 3's corridor: |y| <= 1.2 + 0.3 m, 0 <= x <= 2.4 + 5 m, 2 s, k 2, the vehicle at 10 m/s.
+DangerParams model3Predictive() {
+  DangerParams p = roadCar();
+  p.vehicle_front_m = 2.4;
+  p.velocity_std_k = 1.0;
+  p.uncertainty_cap_m = 0.5;
+  p.footprint_margin_m = 0.05;
+  p.static_prior_k = 2.0;
+  return p;
+}
+
+TEST(DangerPredictiveStaticPrior, SomethingDrivingAheadAtTheVehiclesSpeedIsNotSlowedIntoTheCorridor) {
+  // night_parked_cars at 11.4 s: a young track (sigma 0.76 m/s) 9.8 m ahead, its edge in the
+  // corridor, moving with the vehicle (-0.16 m/s relative, 9.84 over ground). Soft-thresholded to
+  // 8.32 m/s it closed 3.4 m in 2 s and was flagged; the garrote keeps 9.60.
+  const DangerParams p = model3Predictive();
+  // The box x 9.82-10.24, y -3.09 to -1.25 m standing still (a parked car's corner in the lane) is
+  // reached within 2 s.
+  ObjectKinematics box = staticOnBend(Eigen::Vector2d(10.03, -2.17), 0.21, 0.92, 10.0, 0.0);
+  box.velocity_std = Eigen::Vector2d(0.76, 0.76);
+  EXPECT_TRUE(assessDanger(box, p).dangerous);
+  box.velocity.x() = -0.163;  // moving with the vehicle
+  EXPECT_FALSE(assessDanger(box, p).dangerous);
+}
+
+TEST(DangerPredictiveStaticPrior, AParkedCarsVelocityNoiseIsTakenAsStandingStill) {
+  // A parked car's side 0.5 m outside the corridor, 10 m ahead, its young track reading 0.3 m/s
+  // toward the lane (sigma 0.2 m/s): within 2 sigma, so it stands (the footprint grows by the
+  // sigma alone, 0.35 m by the time it has passed); without the prior it drifts 0.44 m more, in.
+  DangerParams p = model3Predictive();
+  ObjectKinematics parked = staticOnBend(Eigen::Vector2d(12.3, -2.9), 2.3, 0.9, 10.0, 0.0);
+  parked.velocity.y() = 0.3;
+  parked.velocity_std = Eigen::Vector2d(0.2, 0.2);
+  EXPECT_FALSE(assessDanger(parked, p).dangerous);
+  p.static_prior_k = 0.0;
+  EXPECT_TRUE(assessDanger(parked, p).dangerous);
 }
 
 // Issues 19 and 22: a young track's prediction is not yet evidence (motion_min_hits). Zebra
