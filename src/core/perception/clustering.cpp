@@ -16,6 +16,10 @@ std::string validate(const ClusterParams& params) {
     why << "cluster.tolerance_m must be > 0 (got " << params.tolerance_m << ")";
   } else if (params.min_points < 1) {
     why << "cluster.min_points must be >= 1 (got " << params.min_points << ")";
+  } else if (!(params.min_points_range_m >= 0.0f) || !std::isfinite(params.min_points_range_m)) {
+    why << "cluster.min_points_range_m must be >= 0 (got " << params.min_points_range_m << ")";
+  } else if (params.min_points_far < 1) {
+    why << "cluster.min_points_far must be >= 1 (got " << params.min_points_far << ")";
   } else if (params.max_points < params.min_points) {
     why << "cluster.max_points must be >= cluster.min_points = " << params.min_points << " (got "
         << params.max_points << ")";
@@ -23,6 +27,14 @@ std::string validate(const ClusterParams& params) {
     why << validate(params.grazing, "cluster.");
   }
   return why.str();
+}
+
+int minClusterPoints(const ClusterParams& params, float range_m) {
+  if (!(params.min_points_range_m > 0.0f) || !(range_m > params.min_points_range_m))
+    return params.min_points;
+  const int scaled = static_cast<int>(
+      std::ceil(static_cast<float>(params.min_points) * params.min_points_range_m / range_m));
+  return std::min(params.min_points, std::max(params.min_points_far, scaled));
 }
 
 std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
@@ -37,7 +49,9 @@ std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
 
   pcl::EuclideanClusterExtraction<Point> extraction;
   extraction.setClusterTolerance(params.tolerance_m);
-  extraction.setMinClusterSize(params.min_points);
+  const bool by_range = params.min_points_range_m > 0.0f;
+  extraction.setMinClusterSize(by_range ? std::min(params.min_points, params.min_points_far)
+                                        : params.min_points);
   extraction.setMaxClusterSize(params.max_points);
   extraction.setSearchMethod(tree);
   extraction.setInputCloud(input);
@@ -46,6 +60,16 @@ std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
 
   boxes.reserve(clusters.size());
   for (const pcl::PointIndices& cluster : clusters) {
+    if (by_range && static_cast<int>(cluster.indices.size()) < params.min_points) {
+      float x = 0.0f, y = 0.0f;  // the cluster's mean position: its range
+      for (const int i : cluster.indices) {
+        x += cloud[i].x;
+        y += cloud[i].y;
+      }
+      const float n = static_cast<float>(cluster.indices.size());
+      if (static_cast<int>(cluster.indices.size()) < minClusterPoints(params, std::hypot(x, y) / n))
+        continue;
+    }
     boxes.push_back(fitBox(cloud, &cluster.indices, footprint_cell_m));
   }
   // PCL already returns clusters largest first; a stable sort makes that a guarantee here

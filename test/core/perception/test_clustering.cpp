@@ -96,6 +96,35 @@ TEST(Clustering, MinAndMaxClusterSizeRespected) {
   EXPECT_NEAR(boxes[2].min.y(), 5.0f, 1e-5f);
 }
 
+TEST(Clustering, MinPointsFallWithRangeBeyondMinPointsRange) {
+  ClusterParams params;  // min_points 10
+  EXPECT_EQ(minClusterPoints(params, 40.0f), 10);  // off by default: the paper's chain
+  params.min_points_range_m = 20.0f;
+  params.min_points_far = 7;
+  EXPECT_EQ(minClusterPoints(params, 5.0f), 10);
+  EXPECT_EQ(minClusterPoints(params, 20.0f), 10);
+  EXPECT_EQ(minClusterPoints(params, 25.0f), 8);  // ceil(10 * 20 / 25)
+  EXPECT_EQ(minClusterPoints(params, 40.0f), 7);  // 5, held at min_points_far
+  params.min_points_far = 12;                     // never more than min_points
+  EXPECT_EQ(minClusterPoints(params, 40.0f), 10);
+}
+
+TEST(Clustering, AFarSparseClusterIsKeptANearOneOfTheSameSizeDropped) {
+  Cloud cloud;
+  addLine(cloud, {5, 0, 0}, 8);    // 5 m: needs 10
+  addLine(cloud, {30, 0, 0}, 8);   // 30 m: needs ceil(10 * 20 / 30) = 7
+  addLine(cloud, {40, 5, 0}, 6);   // 40 m: needs 7 (min_points_far)
+  ClusterParams params;
+  params.tolerance_m = 0.15f;
+  EXPECT_TRUE(clusterBoxes(cloud, params).empty());  // min_points 10 everywhere
+  params.min_points_range_m = 20.0f;
+  params.min_points_far = 7;
+  const std::vector<Box3D> boxes = clusterBoxes(cloud, params);
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_EQ(boxes[0].num_points, 8);
+  EXPECT_NEAR(boxes[0].min.x(), 30.0f, 1e-4f);
+}
+
 TEST(Clustering, OrientedBoxOfRotatedCar) {
   // A 4 x 1.8 m footprint, rotated 30 deg about z and centred at (15, -4), filled on a 0.1 m grid
   // at four heights 0.5 m apart (within the 0.6 m tolerance), 1.5 m tall in all.
@@ -141,6 +170,12 @@ TEST(Clustering, ValidateMessages) {
   p = ClusterParams();
   p.min_points = 0;
   EXPECT_EQ(validate(p), "cluster.min_points must be >= 1 (got 0)");
+  p = ClusterParams();
+  p.min_points_range_m = -1.0f;
+  EXPECT_EQ(validate(p), "cluster.min_points_range_m must be >= 0 (got -1)");
+  p = ClusterParams();
+  p.min_points_far = 0;
+  EXPECT_EQ(validate(p), "cluster.min_points_far must be >= 1 (got 0)");
   p = ClusterParams();
   p.max_points = 5;
   EXPECT_EQ(validate(p), "cluster.max_points must be >= cluster.min_points = 10 (got 5)");

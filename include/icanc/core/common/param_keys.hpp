@@ -34,6 +34,8 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("ground/max_height_error_m", p.ground.max_height_error_m);
   r("cluster/tolerance_m", p.cluster.tolerance_m);
   r("cluster/min_points", p.cluster.min_points);
+  r("cluster/min_points_range_m", p.cluster.min_points_range_m);
+  r("cluster/min_points_far", p.cluster.min_points_far);
   r("cluster/max_points", p.cluster.max_points);
   r("cluster/grazing_reach_m", p.cluster.grazing.reach_m);
   r("cluster/grazing_angle_deg", p.cluster.grazing.angle_deg);

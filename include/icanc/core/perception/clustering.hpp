@@ -13,6 +13,12 @@ namespace icanc {
 struct ClusterParams {
   float tolerance_m = 0.6f;  // neighbour distance [m]
   int min_points = 10;
+  // > 0: beyond this planar range from the frame's origin a cluster needs only
+  // min_points * min_points_range_m / range points, and at least min_points_far: a far object's
+  // returns thin out with range, a near clump of a few returns stays clutter; 0: min_points
+  // everywhere (the paper's chain) [m]
+  float min_points_range_m = 0.0f;
+  int min_points_far = 3;
   int max_points = 5000;
   // A box that is one column of the scan on a surface seen at grazing incidence is dropped when
   // another box of its height continues that surface (dropGrazingColumnBoxes; keys
@@ -20,6 +26,9 @@ struct ClusterParams {
   // voxel grid by the ObstacleDetector).
   GrazingColumnParams grazing;
 };
+
+// The points a cluster whose box centre lies `range_m` from the origin needs.
+int minClusterPoints(const ClusterParams& params, float range_m);
 
 std::string validate(const ClusterParams& params);
 
