@@ -429,6 +429,8 @@ std::string validate(const TrackerParams& p) {
     why << "tracker.iou_weight must be >= 0 (got " << p.iou_weight << ")";
   } else if (p.min_hits_to_confirm < 1) {
     why << "tracker.min_hits_to_confirm must be >= 1 (got " << p.min_hits_to_confirm << ")";
+  } else if (p.min_birth_points < 0) {
+    why << "tracker.min_birth_points must be >= 0 (got " << p.min_birth_points << ")";
   } else if (p.max_missed_frames < 0) {
     why << "tracker.max_missed_frames must be >= 0 (got " << p.max_missed_frames << ")";
   } else if (!(p.accel_std >= 0.0) || !std::isfinite(p.accel_std)) {
@@ -657,10 +659,12 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                                }),
                 tracks_.end());
 
-  // Birth: one tentative track per unassigned detection.
+  // Birth: one tentative track per unassigned detection with the points to start one.
   const double velocity_variance = params_.initial_velocity_std * params_.initial_velocity_std;
   for (int j = 0; j < num_detections; ++j) {
-    if (detection_used_[j] || !finiteCenter(detections[j])) continue;
+    if (detection_used_[j] || !finiteCenter(detections[j]) ||
+        detections[j].num_points < params_.min_birth_points)
+      continue;
     tracks_.emplace_back();
     Track& track = tracks_.back();
     track.id = next_id_++;

@@ -331,6 +331,33 @@ TEST(Tracker, TentativeUntilMinHitsThenConfirmedForGood) {
   EXPECT_TRUE(v.tracks()[0].confirmed);
 }
 
+// min_birth_points: a sparse detection starts no track, but keeps the track of its object alive
+// and counts as its hit (a far car whose sliver falls to a few returns between denser frames).
+TEST(Tracker, ASparseDetectionUpdatesATrackButStartsNone) {
+  TrackerParams p;
+  p.min_birth_points = 10;
+  const auto sparse = [](double x, double y) {
+    Box3D b = box(x, y);
+    b.num_points = 6;
+    return b;
+  };
+  MultiObjectTracker t(p);
+  t.update(0.0, {sparse(20, 5)});
+  EXPECT_TRUE(t.tracks().empty());
+  t.update(0.1, {box(3, 0), sparse(20, 5)});
+  ASSERT_EQ(t.tracks().size(), 1u);  // the dense one only
+  t.update(0.2, {sparse(3, 0)});
+  ASSERT_EQ(t.tracks().size(), 1u);
+  EXPECT_EQ(t.tracks()[0].hits, 2);
+  EXPECT_EQ(t.tracks()[0].missed, 0);
+  EXPECT_TRUE(t.tracks()[0].confirmed);
+
+  p.min_birth_points = 0;  // off: any detection starts a track
+  MultiObjectTracker u(p);
+  u.update(0.0, {sparse(20, 5)});
+  EXPECT_EQ(u.tracks().size(), 1u);
+}
+
 // The matched box is the detection as seen (extent, point count) moved by the filter's
 // correction: its near face (x, toward the sensor at the origin) lands between the predicted
 // face (4.6) and the detected one (4.7), and its whole extent moves with it.
@@ -452,6 +479,9 @@ TEST(TrackerParams, Validate) {
   p = TrackerParams();
   p.min_hits_to_confirm = 0;
   expectBad(p, "min_hits_to_confirm", "0");
+  p = TrackerParams();
+  p.min_birth_points = -1;
+  expectBad(p, "min_birth_points", "-1");
   p = TrackerParams();
   p.max_missed_frames = -1;
   expectBad(p, "max_missed_frames", "-1");

@@ -43,6 +43,7 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("tracker/gate_distance_m", p.tracker.gate_distance_m);
   r("tracker/iou_weight", p.tracker.iou_weight);
   r("tracker/min_hits_to_confirm", p.tracker.min_hits_to_confirm);
+  r("tracker/min_birth_points", p.tracker.min_birth_points);
   r("tracker/max_missed_frames", p.tracker.max_missed_frames);
   r("tracker/accel_std", p.tracker.accel_std);
   r("tracker/steady_accel_std", p.tracker.steady_accel_std);

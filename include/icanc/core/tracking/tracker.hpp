@@ -50,6 +50,9 @@ struct TrackerParams {
   float gate_distance_m = 2.0f;        // max distance predicted centre -> detection centre (x/y)
   float iou_weight = 1.0f;             // cost = distance / gate + iou_weight * (1 - BEV IoU)
   int min_hits_to_confirm = 2;         // detections before a track is published
+  // A detection with fewer points than this updates a track but starts none: a sparse box (a far
+  // object's few returns) keeps its object's track, a sparse clump of clutter gets none (0: any).
+  int min_birth_points = 0;
   int max_missed_frames = 2;           // a track survives this many consecutive misses
   // The filter is an IMM of two constant-velocity models (ImmConstantVelocity): manoeuvring
   // (accel_std) and steady (steady_accel_std), changing mode at mode_switch_rate_per_s. Equal
