@@ -27,7 +27,7 @@ struct ClusterParams {
   GrazingColumnParams grazing;
 };
 
-// The points a cluster whose box centre lies `range_m` from the origin needs.
+// The points a cluster needs whose points' mean lies `range_m` (planar) from the origin.
 int minClusterPoints(const ClusterParams& params, float range_m);
 
 std::string validate(const ClusterParams& params);
