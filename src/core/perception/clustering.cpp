@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <pcl/PointIndices.h>
+#include <pcl/common/centroid.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
 
@@ -60,15 +61,11 @@ std::vector<Box3D> clusterBoxes(const Cloud& cloud, const ClusterParams& params,
 
   boxes.reserve(clusters.size());
   for (const pcl::PointIndices& cluster : clusters) {
-    if (by_range && static_cast<int>(cluster.indices.size()) < params.min_points) {
-      float x = 0.0f, y = 0.0f;  // the cluster's mean position: its range
-      for (const int i : cluster.indices) {
-        x += cloud[i].x;
-        y += cloud[i].y;
-      }
-      const float n = static_cast<float>(cluster.indices.size());
-      if (static_cast<int>(cluster.indices.size()) < minClusterPoints(params, std::hypot(x, y) / n))
-        continue;
+    const int n = static_cast<int>(cluster.indices.size());
+    if (n < params.min_points) {  // only by_range: the cluster's mean position gives its range
+      Eigen::Vector4f mean;
+      pcl::compute3DCentroid(cloud, cluster.indices, mean);
+      if (n < minClusterPoints(params, std::hypot(mean.x(), mean.y()))) continue;
     }
     boxes.push_back(fitBox(cloud, &cluster.indices, footprint_cell_m));
   }
