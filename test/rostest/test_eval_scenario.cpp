@@ -77,6 +77,12 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"min_danger_recall", r.danger.recall()},       {"min_danger_precision", r.danger.precision()},
       {"min_danger_accuracy", r.danger.accuracy()},   {"min_detection_recall", r.detection.recall()},
       {"min_detection_recall_roi", r.detection_roi.recall()},  // in the detector's region of interest
+      // Found with the track's velocity within EvalParams::velocity_agree_mps of the truth's, of
+      // the true objects: a box whose track moves with the vehicle does not count (issue 22).
+      {"min_detection_velocity_agrees",
+       r.detection.tp + r.detection.fn
+           ? double(r.detection_velocity_agrees) / double(r.detection.tp + r.detection.fn)
+           : 1.0},
       {"min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
       {"min_lead_time_s", lead_min},
       {"min_perfect_precision", r.perfect_tracks.precision()},

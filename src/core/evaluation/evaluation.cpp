@@ -154,6 +154,7 @@ double Confusion::f1() const { return ratio(2.0 * tp, 2.0 * tp + fp + fn); }
 EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
                     std::vector<ScoredRow>* rows) {
   EvalReport r;
+  r.velocity_agree_mps = params.velocity_agree_mps;
   r.frames = frames.size();
   std::vector<double> latencies;
   std::size_t on_frames = 0;
@@ -291,6 +292,8 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           const double e2 = (d.velocity - o.velocity).squaredNorm();
           velocity_sq += e2;
           ++r.velocity_samples;
+          if (e2 <= params.velocity_agree_mps * params.velocity_agree_mps)
+            ++r.detection_velocity_agrees;
           if (d.age >= params.settled_age) {
             velocity_sq_settled += e2;
             ++r.velocity_samples_settled;
@@ -411,6 +414,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
+      "  found with the track's velocity within %.1f m/s of the truth's: %llu (%.2f %% of true objects)\n"
       "  in the detector's region of interest: recall %.2f %%  precision %.2f %% (true objects %llu)\n"
       "  missed inside the box of a detection matched to another (merged): %llu of %llu missed; dangerous ones whose merged box was flagged: %llu\n"
       "  settled tracks' velocity RMSE %.2f m/s (n %zu); centre offset step RMS %.3f m (n %zu)\n"
@@ -426,7 +430,11 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       100 * r.danger.precision(), 100 * r.danger.recall(), 100 * r.danger.accuracy(), 100 * r.danger.f1(),
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
-      r.velocity_samples, 100 * r.detection_roi.recall(), 100 * r.detection_roi.precision(),
+      r.velocity_samples, r.velocity_agree_mps,
+      static_cast<unsigned long long>(r.detection_velocity_agrees),
+      100 * ratio(static_cast<double>(r.detection_velocity_agrees),
+                  static_cast<double>(r.detection.tp + r.detection.fn)),
+      100 * r.detection_roi.recall(), 100 * r.detection_roi.precision(),
       static_cast<unsigned long long>(r.detection_roi.tp + r.detection_roi.fn),
       static_cast<unsigned long long>(r.detection_merged),
       static_cast<unsigned long long>(r.detection.fn),
@@ -462,7 +470,9 @@ std::string toJson(const EvalReport& r, const std::string& name) {
   j << ", ";
   conf("detection_roi", r.detection_roi);
   j << ", \"detection_merged\": " << r.detection_merged
-    << ", \"danger_fn_in_flagged_merge\": " << r.danger_fn_in_flagged_merge;
+    << ", \"danger_fn_in_flagged_merge\": " << r.danger_fn_in_flagged_merge
+    << ", \"detection_velocity_agrees\": {\"n\": " << r.detection_velocity_agrees
+    << ", \"within_mps\": " << r.velocity_agree_mps << "}";
   j << ", \"id_switches\": " << r.id_switches << ", \"velocity_rmse\": " << r.velocity_rmse
     << ", \"velocity_rmse_settled\": " << r.velocity_rmse_settled
     << ", \"offset_step_rms_m\": " << r.offset_step_rms_m

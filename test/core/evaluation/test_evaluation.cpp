@@ -570,5 +570,33 @@ TEST(Evaluate, StaticObjectsSpeedOverGround) {
   EXPECT_EQ(evaluate(frames, EvalParams()).static_speed_samples, 0u);
 }
 
+// Issue 22: a box on a parked car whose track moves with the vehicle (a scan line sliding along
+// it) is found, but its velocity does not agree with the car's; objects without a known velocity
+// never agree.
+TEST(Evaluate, FoundWithTheVelocityWithinTheTolerance) {
+  TruthObject parked = truth(1, 12, -4, false);
+  parked.velocity = Eigen::Vector2d(-10.0, 0.0);  // seen from 10 m/s
+  TruthObject behind = truth(2, 20, -4, false);
+  behind.velocity = Eigen::Vector2d(-10.0, 0.0);
+  TruthObject unknown = truth(3, 25, 4, false);
+  unknown.has_velocity = false;
+  TruthObject missed = truth(4, 30, 4, false);
+  const DetectedObject car = det(11, 12, -4, false, -8.5);  // 1.5 m/s off
+  const DetectedObject band = det(12, 20, -4, false, -0.5);  // moves with the vehicle
+  const DetectedObject any = det(13, 25, 4, false, -10.0);
+  const std::vector<EvalFrame> frames{
+      frame(0.0, false, {parked, behind, unknown, missed}, {car, band, any})};
+  const EvalReport r = evaluate(frames, EvalParams());
+  EXPECT_EQ(r.detection.tp, 3u);
+  EXPECT_EQ(r.detection_velocity_agrees, 1u);
+  EvalParams loose;
+  loose.velocity_agree_mps = 10.0;
+  EXPECT_EQ(evaluate(frames, loose).detection_velocity_agrees, 2u);
+  EXPECT_NE(toJson(r, "x").find("\"detection_velocity_agrees\": {\"n\": 1, \"within_mps\": 2}"),
+            std::string::npos);
+  EXPECT_NE(toTable(r, "x").find("velocity within 2.0 m/s of the truth's: 1 (25.00 % of true"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace icanc

@@ -83,6 +83,7 @@ struct EvalParams {
                           Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity())};
   std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
   double static_speed_mps = 0.5;      // true objects slower over ground than this stand still
+  double velocity_agree_mps = 2.0;    // EvalReport::detection_velocity_agrees' tolerance
   // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
   // a perfect danger detector would have had (EvalReport::truth_duty_cycle).
   double lamp_tau_s = 2.0;
@@ -127,6 +128,12 @@ struct EvalReport {
   // that holds them; which of two walkers in one box the matching picks is a coin toss).
   std::uint64_t detection_merged = 0;
   std::uint64_t danger_fn_in_flagged_merge = 0;
+  // Of detection.tp: true objects with a known velocity whose matched track's velocity (relative
+  // to the vehicle, planar) lies within EvalParams::velocity_agree_mps of it. A box on the object
+  // whose track moves with the vehicle instead (one scan line sliding along a parked car's side or
+  // roof at the same range frame after frame) is found but does not agree.
+  std::uint64_t detection_velocity_agrees = 0;
+  double velocity_agree_mps = 0.0;  // the tolerance it was counted with
   std::size_t id_switches = 0;
   double velocity_rmse = 0.0;       // planar, over matched pairs with known truth velocity
   std::size_t velocity_samples = 0;
