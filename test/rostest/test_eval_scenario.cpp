@@ -80,9 +80,7 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       // Found with the track's velocity within EvalParams::velocity_agree_mps of the truth's, of
       // the true objects: a box whose track moves with the vehicle does not count (issue 22).
       {"min_detection_velocity_agrees",
-       r.detection.tp + r.detection.fn
-           ? double(r.detection_velocity_agrees) / double(r.detection.tp + r.detection.fn)
-           : 1.0},
+       r.detection.tp + r.detection.fn ? r.velocityAgreesShare() : 1.0},
       {"min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
       {"min_lead_time_s", lead_min},
       {"min_perfect_precision", r.perfect_tracks.precision()},

@@ -151,6 +151,11 @@ double Confusion::recall() const { return ratio(tp, tp + fn); }
 double Confusion::accuracy() const { return ratio(tp + tn, tp + tn + fp + fn); }
 double Confusion::f1() const { return ratio(2.0 * tp, 2.0 * tp + fp + fn); }
 
+double EvalReport::velocityAgreesShare() const {
+  return ratio(static_cast<double>(detection_velocity_agrees),
+               static_cast<double>(detection.tp + detection.fn));
+}
+
 EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
                     std::vector<ScoredRow>* rows) {
   EvalReport r;
@@ -432,8 +437,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
       r.velocity_samples, r.velocity_agree_mps,
       static_cast<unsigned long long>(r.detection_velocity_agrees),
-      100 * ratio(static_cast<double>(r.detection_velocity_agrees),
-                  static_cast<double>(r.detection.tp + r.detection.fn)),
+      100 * r.velocityAgreesShare(),
       100 * r.detection_roi.recall(), 100 * r.detection_roi.precision(),
       static_cast<unsigned long long>(r.detection_roi.tp + r.detection_roi.fn),
       static_cast<unsigned long long>(r.detection_merged),

@@ -134,6 +134,7 @@ struct EvalReport {
   // roof at the same range frame after frame) is found but does not agree.
   std::uint64_t detection_velocity_agrees = 0;
   double velocity_agree_mps = 0.0;  // the tolerance it was counted with
+  double velocityAgreesShare() const;  // of the true objects (detection.tp + fn); 0 without any
   std::size_t id_switches = 0;
   double velocity_rmse = 0.0;       // planar, over matched pairs with known truth velocity
   std::size_t velocity_samples = 0;
