@@ -86,6 +86,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     pub_.advertise<ObstacleArray>(nh, pnh, "obstacles", 5);
     ground_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("ground_points", 2);
     obstacle_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("obstacle_points", 2);
+    moving_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("moving_points", 2);
     sub_ = nh.subscribe("points", 2, &ObstacleDetectorNodelet::onCloud, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     NODELET_INFO("ObstacleDetector on %s -> %s (boxes in '%s', ego motion: %s%s%s)",
@@ -175,7 +176,9 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
 
     const double stamp_s = msg->header.stamp.toSec();
     const EgoStep ego = egoStep(msg->header.stamp, frame);
-    detector_->setFrameMotion(ego.motion);
+    detector_->setFrameMotion(ego.motion, ego.status != EgoStep::Status::kNone &&
+                                              ego.status != EgoStep::Status::kLost);
+    detector_->setCollectMovingPoints(moving_pub_.getNumSubscribers() > 0);
 
     StageTimes times;
     detector_->setSensorOrigin(to_target.translation());  // the cloud frame's origin
@@ -221,13 +224,14 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     publishPoints(msg->header, to_target);
   }
 
-  // ~ground_points and ~obstacle_points (rviz tuning), in the cloud's own frame with its stamp:
+  // ~ground_points, ~obstacle_points and ~moving_points (returns in free space; rviz tuning), in the cloud's own frame with its stamp:
   // built only while someone subscribes, checked per cloud.
   void publishPoints(const std_msgs::Header& header, const Eigen::Affine3f& to_target) {
     const bool ground = ground_pub_.getNumSubscribers() > 0;
     const bool obstacles = obstacle_pub_.getNumSubscribers() > 0;
-    if (!ground && !obstacles) return;
-    detector_->splitPoints(ground_cloud_, obstacle_cloud_);
+    const bool moving = moving_pub_.getNumSubscribers() > 0;
+    if (!ground && !obstacles && !moving) return;
+    if (ground || obstacles) detector_->splitPoints(ground_cloud_, obstacle_cloud_);
     ++debug_frames_;
     const Eigen::Affine3f to_cloud = to_target.inverse();
     const auto send = [&](ros::Publisher& pub, const Cloud& points) {
@@ -239,6 +243,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     };
     if (ground) send(ground_pub_, ground_cloud_);
     if (obstacles) send(obstacle_pub_, obstacle_cloud_);
+    if (moving) send(moving_pub_, detector_->movingPoints());
   }
 
   // A wrong ground plane is never silent: a plane rejected as the road (its height, or points
@@ -367,6 +372,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     stat.add("prep ms", last_times_.prep_ms);
     stat.add("ground ms", last_times_.ground_ms);
     stat.add("cluster ms", last_times_.cluster_ms);
+    stat.add("motion ms", last_times_.motion_ms);
     stat.add("track ms", last_times_.track_ms);
     live_->addTo(stat);
     checks_.addTo(stat);
@@ -389,7 +395,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<InputMonitor> input_;
   std::unique_ptr<LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>> live_;
   ZeroCopyPublisher pub_;
-  ros::Publisher ground_pub_, obstacle_pub_;
+  ros::Publisher ground_pub_, obstacle_pub_, moving_pub_;
   Cloud ground_cloud_, obstacle_cloud_, debug_cloud_;  // reused by publishPoints
   std::uint64_t debug_frames_ = 0;
   ros::Subscriber sub_;

@@ -67,6 +67,9 @@ std::vector<DetectedObject> toDetections(const ObstacleArray& array) {
     d.center = Eigen::Vector2d(o.pose.position.x, o.pose.position.y);
     d.velocity = Eigen::Vector2d(o.velocity.x, o.velocity.y);
     d.velocity_over_ground = Eigen::Vector2d(o.velocity_over_ground.x, o.velocity_over_ground.y);
+    d.motion = o.motion_state <= static_cast<std::uint8_t>(MotionState::kMoving)
+                   ? static_cast<MotionState>(o.motion_state)
+                   : MotionState::kUnknown;
     d.dangerous = o.dangerous;
     d.age = o.age;
     d.has_aabb = true;

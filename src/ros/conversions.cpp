@@ -64,6 +64,10 @@ void toObstacleMsg(const Track& track, const EgoStep& ego, Obstacle& out) {
   out.velocity_std_axes.y = std_xy.y();
   out.age = track.age;
   out.hits = track.hits;
+  out.motion_state = static_cast<std::uint8_t>(track.motion);
+  out.motion_points_tested = track.evidence.tested;
+  out.motion_points_free = track.evidence.free;
+  out.motion_points_seen = track.evidence.seen;
   out.missed = track.coasted();
   out.num_points = track.box.num_points;
 }

@@ -86,6 +86,12 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"min_perfect_precision", r.perfect_tracks.precision()},
       {"min_perfect_recall", r.perfect_tracks.recall()},
       {"min_danger_tp", double(r.danger.tp)},
+      // Motion from free space: tracks of true objects standing still read static, of moving
+      // ones moving (from a track's second frame; 1 without any).
+      {"min_motion_standing_static",
+       r.motion_standing.n() ? r.motion_standing.share(MotionState::kStatic) : 1.0},
+      {"min_motion_moving_moving",
+       r.motion_moving.n() ? r.motion_moving.share(MotionState::kMoving) : 1.0},
   };
   const Check maxes[] = {
       {"max_duty_cycle", r.duty_cycle},
@@ -101,6 +107,9 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       // Tracking in the fixed frame: a static object's track stands still (needs ego motion).
       {"max_static_speed_p50", r.static_speed_samples ? r.static_speed_p50_mps : 1e9},
       {"max_static_speed_p90", r.static_speed_samples ? r.static_speed_p90_mps : 1e9},
+      // Detections of no true object that read moving (0 without any).
+      {"max_motion_unlabelled_moving",
+       r.motion_unlabelled.n() ? r.motion_unlabelled.share(MotionState::kMoving) : 0.0},
   };
   for (const Check& c : mins) {
     double bound;

@@ -287,6 +287,13 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           side_bias.push_back(d.aabb_min.y() - tmin.y());
           side_bias.push_back(tmax.y() - d.aabb_max.y());
         }
+        if (o.has_velocity && has_ego && d.age >= 2) {
+          const Eigen::Vector2d at_object =
+              f.ego_velocity + f.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
+          const double over_ground = (o.velocity + at_object).norm();
+          if (over_ground < params.static_speed_mps) r.motion_standing.add(d.motion);
+          else if (over_ground > params.moving_speed_mps) r.motion_moving.add(d.motion);
+        }
         if (o.has_velocity && d.age >= params.settled_age && has_ego) {
           const Eigen::Vector2d frame_velocity =
               f.ego_velocity + f.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
@@ -353,6 +360,7 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
       }
       ++r.detection.fp;
       if (params.roi.contains(dets[j].center)) ++r.detection_roi.fp;
+      if (has_ego && fragment_of[j] < 0 && dets[j].age >= 2) r.motion_unlabelled.add(dets[j].motion);
       if (dets[j].dangerous && fragment_of[j] < 0) {
         ++r.danger.fp;
         ++r.false_alarms_unmatched;
@@ -408,6 +416,39 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
   return r;
 }
 
+void MotionCounts::add(MotionState state) {
+  switch (state) {
+    case MotionState::kUnknown: ++unknown; break;
+    case MotionState::kStatic: ++still; break;
+    case MotionState::kMoving: ++moving; break;
+  }
+}
+
+double MotionCounts::share(MotionState state) const {
+  const std::uint64_t k = state == MotionState::kStatic   ? still
+                          : state == MotionState::kMoving ? moving
+                                                          : unknown;
+  return n() ? static_cast<double>(k) / static_cast<double>(n()) : 0.0;
+}
+
+namespace {
+
+std::string motionLine(const char* what, const MotionCounts& c) {
+  char buf[200];
+  std::snprintf(buf, sizeof(buf), "  %s: static %.1f %%  moving %.1f %%  unknown %.1f %% (n %llu)\n", what,
+                100 * c.share(MotionState::kStatic), 100 * c.share(MotionState::kMoving),
+                100 * c.share(MotionState::kUnknown), static_cast<unsigned long long>(c.n()));
+  return buf;
+}
+
+std::string motionJson(const MotionCounts& c) {
+  std::ostringstream j;
+  j << "{\"static\": " << c.still << ", \"moving\": " << c.moving << ", \"unknown\": " << c.unknown << "}";
+  return j.str();
+}
+
+}  // namespace
+
 std::string toTable(const EvalReport& r, const std::string& title) {
   char buf[2048];
   const double lead_min = r.lead_times_s.empty() ? 0.0 : *std::min_element(r.lead_times_s.begin(), r.lead_times_s.end());
@@ -453,7 +494,10 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       static_cast<unsigned long long>(r.perfect_tracks.fn),
       static_cast<unsigned long long>(r.perfect_tracks.tn), 100 * r.perfect_tracks.precision(),
       100 * r.perfect_tracks.recall(), 100 * r.perfect_tracks_duty_cycle);
-  return buf + toText(r.lamp_causes);
+  return buf + std::string("motion states (from a track's second frame):\n") +
+         motionLine("tracks of true objects standing still", r.motion_standing) +
+         motionLine("tracks of true objects moving", r.motion_moving) +
+         motionLine("detections of no true object", r.motion_unlabelled) + toText(r.lamp_causes);
 }
 
 std::string toJson(const EvalReport& r, const std::string& name) {
@@ -486,6 +530,9 @@ std::string toJson(const EvalReport& r, const std::string& name) {
     << r.static_speed_p90_mps << ", \"n\": " << r.static_speed_samples << "}"
     << ", \"latency_ms\": {\"p50\": " << r.latency_p50_ms << ", \"p90\": " << r.latency_p90_ms
     << ", \"p99\": " << r.latency_p99_ms << ", \"max\": " << r.latency_max_ms << "}"
+    << ", \"motion_states\": {\"standing\": " << motionJson(r.motion_standing)
+    << ", \"moving\": " << motionJson(r.motion_moving)
+    << ", \"unlabelled\": " << motionJson(r.motion_unlabelled) << "}"
     << ", \"duty_cycle\": " << r.duty_cycle
     << ", \"truth_duty_cycle\": " << r.truth_duty_cycle << ", ";
   conf("perfect_tracks", r.perfect_tracks);

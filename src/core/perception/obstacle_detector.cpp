@@ -28,7 +28,7 @@ std::string validate(const ObstacleDetectorParams& params) {
     return "footprint_cell_m must be >= 0 (got " + std::to_string(params.footprint_cell_m) + ")";
   for (const std::string& why : {validate(params.prep), validate(params.ground),
                                  validate(params.cluster), validate(params.tracker),
-                                 validate(params.fast)}) {
+                                 validate(params.fast), validate(params.free_space)}) {
     if (!why.empty()) return why;
   }
   if (params.method == DetectorMethod::kFast) {
@@ -47,6 +47,9 @@ ObstacleDetector::ObstacleDetector(const ObstacleDetectorParams& params)
 void ObstacleDetector::setParams(const ObstacleDetectorParams& params) {
   params_ = params;
   tracker_.setParams(params.tracker);
+  motion_.setParams(params.free_space);
+  if (params.prep.remove_ego) motion_.setEgoBox(params.prep.ego_min, params.prep.ego_max);
+  else motion_.setEgoBox(Eigen::Vector3f::Constant(1.0f), Eigen::Vector3f::Constant(-1.0f));
   fast_.reset(params.method == DetectorMethod::kFast
                   ? new FastDetector(params.prep, params.fast, params.footprint_cell_m)
                   : nullptr);
@@ -60,6 +63,10 @@ MultiObjectTracker::UpdateResult ObstacleDetector::process(double stamp_s, const
   const auto ms = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
   };
+  beginMotion(stamp_s);
+  if (motion_known_) {
+    for (const Point& p : cloud.points) motion_.addPoint(p.x, p.y, p.z);
+  }
   if (fast_) {
     FastStageTimes fast_times;
     fast_->detect(cloud, detections_, &fast_times);
@@ -111,8 +118,21 @@ void ObstacleDetector::splitPoints(Cloud& ground, Cloud& obstacles) const {
   }
 }
 
+void ObstacleDetector::beginMotion(double stamp_s) {
+  if (motion_known_) motion_.beginFrame(stamp_s, frame_motion_, sensor_origin_);
+  else motion_.reset();
+}
+
 MultiObjectTracker::UpdateResult ObstacleDetector::track(double stamp_s, StageTimes* times) {
+  const double m0 = fastNowMs();
+  if (motion_known_) {
+    motion_.evaluate(detections_);
+    motion_.endFrame();
+  } else {
+    for (Box3D& box : detections_) box.motion = MotionEvidence();
+  }
   const double t0 = fastNowMs();
+  if (times) times->motion_ms = t0 - m0;
   // Faces at the region of interest's edge are cut there; a box edge lies up to one voxel (classic)
   // or one grid cell (fast) inside the last point.
   TrackerView view;

@@ -18,6 +18,10 @@ constexpr float kOwnAxesMinLengthM = 3.0f;
 
 bool finiteCenter(const Box3D& box) { return box.center.allFinite(); }
 
+// A track this old whose speed is this high (and three sigmas) has measured its motion.
+constexpr int kSettledHits = 10;
+constexpr double kSettledSpeedMps = 2.0;
+
 // True when p's (x, y) lies inside the box's footprint grown by margin_m.
 bool planarContains(const Box3D& box, const Eigen::Vector3f& p, double margin_m) {
   const Eigen::Vector3d c = box.center.cast<double>();
@@ -465,6 +469,32 @@ std::string validate(const TrackerParams& p) {
   return why.str();
 }
 
+bool updateMotionState(Track& track, const MotionEvidence& evidence) {
+  track.evidence = evidence;
+  const MotionState reading = evidence.state();
+  if (reading == MotionState::kMoving) {
+    ++track.moving_in_row;
+    track.static_in_row = 0;
+  } else if (reading == MotionState::kStatic) {
+    ++track.static_in_row;
+    track.moving_in_row = 0;
+  } else {
+    return false;  // nothing new: the state stands
+  }
+  const MotionState before = track.motion;
+  if (reading == MotionState::kMoving) {
+    if (track.motion != MotionState::kStatic || track.moving_in_row >= 2) track.motion = MotionState::kMoving;
+  } else {
+    const double speed = track.velocity().head<2>().norm();
+    const bool settled_motion = track.hits >= kSettledHits && speed > kSettledSpeedMps &&
+                                speed > 3.0 * track.velocityStd();
+    if (track.motion == MotionState::kUnknown && !settled_motion) track.motion = MotionState::kStatic;
+    else if (track.motion == MotionState::kMoving && track.static_in_row >= 3 && !settled_motion)
+      track.motion = MotionState::kStatic;
+  }
+  return track.motion != before;
+}
+
 double Track::velocityStd() const {
   const auto& P = filter.covariance();
   return std::sqrt(P(3, 3) + P(4, 4));
@@ -638,6 +668,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                                                     track.face_axes_yaw, params_, view,
                                                     detections, spans_, j);
       track.filter.update(z, measurement_variance, params_.robust_sigma);
+      updateMotionState(track, detection.motion);
       track.box = detection;
       translateBox(track.box, (track.filter.position() - z).cast<float>());
       ++track.hits;
@@ -675,6 +706,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
     track.hits = 1;
     track.missed = 0;
     track.confirmed = track.hits >= params_.min_hits_to_confirm;
+    updateMotionState(track, detections[j].motion);
   }
   return result;
 }

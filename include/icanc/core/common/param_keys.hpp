@@ -88,6 +88,9 @@ void visitParams(Reader& r, ObstacleDetectorParams& p) {
   r("fast/range_piece_max_width_m", p.fast.range_piece_max_width_m);
   r("fast/range_piece_min_height_m", p.fast.range_piece_min_height_m);
   r("fast/range_piece_foreground", p.fast.range_piece_foreground);
+  r("free_space/azimuth_step_deg", p.free_space.azimuth_step_deg);
+  r("free_space/elevation_step_deg", p.free_space.elevation_step_deg);
+  r("free_space/tolerance_m", p.free_space.tolerance_m);
 }
 
 template <class Reader>

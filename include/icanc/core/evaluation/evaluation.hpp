@@ -14,6 +14,7 @@
 
 #include "icanc/core/danger/danger.hpp"
 #include "icanc/core/evaluation/lamp_causes.hpp"
+#include "icanc/core/motion/motion_state.hpp"
 
 namespace icanc {
 
@@ -46,6 +47,15 @@ struct DetectedObject {
   Eigen::Vector2d aabb_min = Eigen::Vector2d::Zero();
   Eigen::Vector2d aabb_max = Eigen::Vector2d::Zero();
   Eigen::Vector2d velocity_std = Eigen::Vector2d::Zero();
+  MotionState motion = MotionState::kUnknown;  // icanc/Obstacle motion_state
+};
+
+// How many object-frames read each motion state (icanc/Obstacle motion_state).
+struct MotionCounts {
+  std::uint64_t unknown = 0, still = 0, moving = 0;
+  void add(MotionState state);
+  std::uint64_t n() const { return unknown + still + moving; }
+  double share(MotionState state) const;  // 0 without any
 };
 
 struct EvalFrame {
@@ -83,6 +93,7 @@ struct EvalParams {
                           Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity())};
   std::uint32_t settled_age = 10;     // tracks this old count in velocity_rmse_settled
   double static_speed_mps = 0.5;      // true objects slower over ground than this stand still
+  double moving_speed_mps = 1.0;      // ... and faster than this move (EvalReport::motion_*)
   double velocity_agree_mps = 2.0;    // EvalReport::detection_velocity_agrees' tolerance
   // The light controller of the run (light_controller/tau_s, recheck_below_s), for the duty cycle
   // a perfect danger detector would have had (EvalReport::truth_duty_cycle).
@@ -157,6 +168,10 @@ struct EvalReport {
   // objects that stand still (their true relative velocity plus the frame's ego twist at them is
   // below EvalParams::static_speed_mps), median and 90th percentile over settled tracks. Zero
   // samples when the graph reports no ego motion (every object moves relative to the vehicle).
+  // Motion states, with ego motion, from a track's second frame on (age >= 2): of the tracks
+  // matched to true objects that stand still over ground (static_speed_mps) and to those that
+  // move (moving_speed_mps), and of the detections of no true object in the scored view.
+  MotionCounts motion_standing, motion_moving, motion_unlabelled;
   double static_speed_p50_mps = 0.0;
   double static_speed_p90_mps = 0.0;
   std::size_t static_speed_samples = 0;

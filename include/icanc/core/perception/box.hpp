@@ -7,6 +7,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "icanc/core/common/types.hpp"
+#include "icanc/core/motion/motion_state.hpp"
 
 namespace icanc {
 
@@ -32,6 +33,8 @@ struct Box3D {
   // along any direction, so the box's bounds in any axes (the tracker measures a track's faces in
   // axes fixed to the ground while the vehicle turns). Empty: the axis-aligned box's corners.
   std::vector<Eigen::Vector2f> hull;
+  // What free space says of its points this frame (FreeSpaceMotion::evaluate; none: unknown).
+  MotionEvidence motion;
 };
 
 // Fits both boxes to the given points (indices into cloud; all points when indices is null):

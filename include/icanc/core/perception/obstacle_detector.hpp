@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "icanc/core/motion/free_space.hpp"
 #include "icanc/core/perception/box.hpp"
 #include "icanc/core/perception/cloud_prep.hpp"
 #include "icanc/core/perception/clustering.hpp"
@@ -34,6 +35,7 @@ struct ObstacleDetectorParams {
   GroundParams ground;
   ClusterParams cluster;
   TrackerParams tracker;
+  FreeSpaceParams free_space;  // motion read from free space (needs the vehicle's motion)
 };
 
 // First problem found, or "" when every part is valid.
@@ -43,8 +45,9 @@ struct StageTimes {
   double prep_ms = 0.0;
   double ground_ms = 0.0;
   double cluster_ms = 0.0;
+  double motion_ms = 0.0;  // free-space motion: the frame's range image and the boxes' tests
   double track_ms = 0.0;
-  double total_ms() const { return prep_ms + ground_ms + cluster_ms + track_ms; }
+  double total_ms() const { return prep_ms + ground_ms + cluster_ms + motion_ms + track_ms; }
 };
 
 class ObstacleDetector {
@@ -85,7 +88,15 @@ class ObstacleDetector {
   // How the vehicle moved since the previous frame (EgoStep::motion), for the next frame only: the
   // tracker re-expresses its tracks by it, so their velocities are over ground. Not set: the
   // vehicle is taken to stand still (velocities relative to it, the paper's behaviour).
-  void setFrameMotion(const Eigen::Isometry3d& motion) { frame_motion_ = motion; }
+  // `known` false: no pose (ego motion source none, or lost): the tracks' velocities are relative
+  // and free space tells nothing (every obstacle's motion unknown, the past images dropped).
+  void setFrameMotion(const Eigen::Isometry3d& motion, bool known = true) {
+    frame_motion_ = motion;
+    motion_known_ = known;
+  }
+  // Keep the returns found in free space each frame (FreeSpaceMotion::freePoints; a debug cloud).
+  void setCollectMovingPoints(bool collect) { motion_.setCollectFree(collect); }
+  const Cloud& movingPoints() const { return motion_.freePoints(); }
 
   // Takes effect on the next frame; the tracks are kept.
   void setParams(const ObstacleDetectorParams& params);
@@ -94,6 +105,7 @@ class ObstacleDetector {
 
  private:
   MultiObjectTracker::UpdateResult track(double stamp_s, StageTimes* times);
+  void beginMotion(double stamp_s);
 
   ObstacleDetectorParams params_;
   std::unique_ptr<FastDetector> fast_;
@@ -105,6 +117,8 @@ class ObstacleDetector {
   std::vector<Box3D> detections_;
   Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();
   Eigen::Isometry3d frame_motion_ = Eigen::Isometry3d::Identity();
+  bool motion_known_ = true;
+  FreeSpaceMotion motion_;
 };
 
 template <class Source>
@@ -115,8 +129,21 @@ MultiObjectTracker::UpdateResult ObstacleDetector::processFrom(double stamp_s, S
     source([this](float x, float y, float z) { collected_.push_back(Point(x, y, z)); });
     return process(stamp_s, collected_, times);
   }
+  beginMotion(stamp_s);
   FastStageTimes fast_times;
-  fast_->detectFrom(std::forward<Source>(source), detections_, &fast_times);
+  if (motion_known_) {
+    // Every return also goes into the frame's range image, in the same pass.
+    fast_->detectFrom(
+        [&](auto&& sink) {
+          source([&](float x, float y, float z) {
+            motion_.addPoint(x, y, z);
+            sink(x, y, z);
+          });
+        },
+        detections_, &fast_times);
+  } else {
+    fast_->detectFrom(std::forward<Source>(source), detections_, &fast_times);
+  }
   if (times) {
     times->prep_ms = fast_times.prep_ms;
     times->ground_ms = fast_times.ground_ms;

@@ -108,6 +108,7 @@ struct TrackerParams {
 
 std::string validate(const TrackerParams& params);
 
+
 struct Track {
   std::uint32_t id = 0;
   // The last associated box moved by the filter's correction, then along the filter's prediction
@@ -129,6 +130,11 @@ struct Track {
   int held = 0;               // frames without one inside a detection another track took
                               // (merge_hold_frames); missed + held: how long it has coasted
   bool confirmed = false;     // hits >= min_hits_to_confirm (stays true once reached)
+  // Whether it moves, from free space (updateMotionState).
+  MotionState motion = MotionState::kUnknown;
+  MotionEvidence evidence;    // the last associated detection's
+  int moving_in_row = 0;      // consecutive detections that read moving ...
+  int static_in_row = 0;      // ... and static
 
   int coasted() const { return missed + held; }  // consecutive frames without a detection
   Eigen::Vector3d velocity() const { return filter.velocity(); }
@@ -136,6 +142,13 @@ struct Track {
   double velocityStd() const;           // planar: sqrt(var vx + var vy)
   Eigen::Vector2d velocityStdXY() const;  // per axis: sqrt(var vx), sqrt(var vy)
 };
+
+// A track's motion state after a detection read `evidence`: unknown takes the first reading;
+// a static track turns moving after two moving readings in a row (one is a glimpse of what moves
+// beside it), a moving one static after three static ones. A track whose filter has long measured
+// a clear motion is not turned static by its sides (a car driving beside the vehicle: its flank
+// lies where its flank was). Returns true when the state changed.
+bool updateMotionState(Track& track, const MotionEvidence& evidence);
 
 // A detection as seen from the sensor (TrackerParams::occlusion_gap_deg).
 struct BearingSpan {
