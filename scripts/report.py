@@ -539,6 +539,9 @@ def draw_timeline(path, ctx):
                       (y["truly dangerous"] - 0.35, 0.7), color="#30a050")
         a.broken_barh([(rel(s), rel(e) - rel(s)) for s, e in ctx["perfect"]],
                       (y["perfect detector's lamp"] - 0.35, 0.7), color="#80c090")
+        for lane, spans in (("truly dangerous", ctx["truth_spans"]), ("perfect detector's lamp", ctx["perfect"])):
+            if not spans:
+                a.text(0.1, y[lane], "none in the drive", fontsize=8, va="center", color="#555")
     a.set_yticks(range(len(lanes)))
     a.set_yticklabels(lanes)
     a.set_ylim(-0.6, len(lanes) - 0.2)
@@ -594,13 +597,16 @@ def draw_bev(path, ctx, t_ns, title, highlight):
     arr = ctx["frames"][t_ns]
     d = ctx["danger"]
     roi_min, roi_max = ctx["roi"]
-    xmin, xmax = max(roi_min[0], -10.0), min(roi_max[0], 45.0)
-    ymin, ymax = max(roi_min[1], -20.0), min(roi_max[1], 20.0)
-    for o in arr.obstacles:
-        if o.dangerous:
-            xmin, xmax = min(xmin, o.aabb_min.x - 2), max(xmax, o.aabb_max.x + 2)
-            ymin, ymax = min(ymin, o.aabb_min.y - 2), max(ymax, o.aabb_max.y + 2)
-
+    # The region of interest, cut to what matters: 20 m ahead (10 m past the farthest flagged
+    # object), 6 m behind (2 m past the rearmost) and 8 m to each side (4 m past the widest), at
+    # most 45 m ahead and 20 m to each side.
+    far = max([o.aabb_max.x for o in arr.obstacles if o.dangerous] + [10.0])
+    wide = max([max(abs(o.aabb_min.y), abs(o.aabb_max.y)) for o in arr.obstacles if o.dangerous] + [4.0])
+    near = min([o.aabb_min.x for o in arr.obstacles if o.dangerous] + [-4.0])
+    xmin, xmax = max(roi_min[0], near - 2.0), min(roi_max[0], 45.0, far + 10.0)
+    ymin, ymax = max(roi_min[1], -20.0, -wide - 4.0), min(roi_max[1], 20.0, wide + 4.0)
+    xmax = max(xmax, min(roi_max[0], 20.0))
+    ymin, ymax = min(ymin, max(roi_min[1], -8.0)), max(ymax, min(roi_max[1], 8.0))
     def P(pts):  # vehicle (x, y) -> picture (y, x); the horizontal axis is inverted below
         return [(y, x) for x, y in pts]
     width = 7.0
@@ -672,7 +678,10 @@ def draw_bev(path, ctx, t_ns, title, highlight):
                        xytext=(o.pose.position.y, o.pose.position.x),
                        arrowprops=dict(arrowstyle="->", color=colour, lw=1.1), zorder=6)
         if o.dangerous or o.id in highlight:
-            a.annotate(str(o.id), (o.aabb_min.y, o.aabb_max.x), fontsize=8, color=colour, weight="bold", zorder=7,
+            # At the box's near-left corner, kept inside the picture (a box cut by its edge).
+            lx = min(max(o.aabb_max.x, xmin + 1.0), xmax - 1.5)
+            ly = min(max(o.aabb_min.y, ymin + 1.5), ymax - 0.5)
+            a.annotate(str(o.id), (ly, lx), fontsize=8, color=colour, weight="bold", zorder=7,
                        xytext=(2, 2), textcoords="offset points")
     a.set_xlim(ymax, ymin)  # +y (left) on the left
     a.set_ylim(xmin, xmax)
@@ -693,7 +702,7 @@ def draw_bev(path, ctx, t_ns, title, highlight):
         legend.append(Line2D([], [], color="#30a050", lw=1.4, label="ground truth (filled: dangerous)"))
     if ctx["segments"]:
         legend.append(Line2D([], [], color="#ffd000", lw=6, alpha=0.5, label="lit segments"))
-    a.legend(handles=legend, loc="lower left", fontsize=7, framealpha=0.85)
+    a.legend(handles=legend, loc="upper center", bbox_to_anchor=(0.5, -0.07), ncol=4, fontsize=7, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)
@@ -809,6 +818,8 @@ def render(args, out, profile_path, profile, binfo):
         row("cloud &rarr; lamp latency p50 / p99", "%.1f / %.1f ms" % (np.percentile(lat, 50), np.percentile(lat, 99)))
     dropped = binfo["clouds"] - (ev["processed"] if ev else len(frames))
     row("frames dropped", "%d of %d (no answer from the graph in time)" % (dropped, binfo["clouds"]))
+    if ev and len(frames) < ev["processed"]:  # the recorder came up after the first answers
+        row("frames missing here", "%d answered frames not recorded by the report" % (ev["processed"] - len(frames)))
     en = []
     for lamp in catalogue:
         wt = float(lamp.get("high_beam_w", 0))
@@ -828,8 +839,8 @@ def render(args, out, profile_path, profile, binfo):
         H.append("<h2>Scores against the ground truth (icanc_eval)</h2><table><tr><th>TP/FP/FN/TN</th><th>precision %</th>"
                  "<th>recall %</th><th>F1 %</th><th>episodes caught</th><th>min lead s</th><th>detection recall %</th>"
                  "<th>id switches</th><th>velocity RMSE m/s</th><th>lamp duty %</th><th>perfect detector's duty %</th></tr>")
-        lead = min(ev["lead_times_s"]) if ev["lead_times_s"] else float("nan")
-        H.append("<tr><td>%d/%d/%d/%d</td><td>%.1f</td><td>%.1f</td><td>%.1f</td><td>%d/%d</td><td>%.2f</td><td>%.1f</td>"
+        lead = "%.2f" % min(ev["lead_times_s"]) if ev["lead_times_s"] else "-"
+        H.append("<tr><td>%d/%d/%d/%d</td><td>%.1f</td><td>%.1f</td><td>%.1f</td><td>%d/%d</td><td>%s</td><td>%.1f</td>"
                  "<td>%d</td><td>%.2f</td><td>%.1f</td><td>%.1f</td></tr></table>"
                  % (d["tp"], d["fp"], d["fn"], d["tn"], 100 * d["precision"], 100 * d["recall"], 100 * d["f1"],
                     ev["caught"], ev["episodes"], lead, 100 * ev["detection"]["recall"], ev["id_switches"],
@@ -849,7 +860,8 @@ def render(args, out, profile_path, profile, binfo):
     H.append("<h2>Timeline</h2><img src='timeline.png' alt='timeline'>")
     # Episodes
     H.append("<h2>Lamp-on episodes</h2><table id='episodes'><tr><th>#</th><th>on at s</th><th>off at s</th>"
-             "<th>duration s</th><th class='l'>reason</th><th>flagged objects</th><th class='l'>flagged longest</th></tr>")
+             "<th>duration s</th><th class='l'>reason</th><th>flagged objects</th><th class='l'>flagged longest</th>"
+             "<th class='l'>kept the lamp on: ids flagged in the frames that (re)started its timer</th></tr>")
     details = []
     for k, (s, eend, on, off) in enumerate(eps, 1):
         first = on.cloud_stamp.to_nsec() if on.reason == 1 and on.cloud_stamp.to_nsec() in frames else None
@@ -863,14 +875,26 @@ def render(args, out, profile_path, profile, binfo):
                 if o.dangerous:
                     objs.setdefault(o.id, []).append((t, o))
         longest = max(objs, key=lambda i: (len(objs[i]), -i)) if objs else None
+        # The frames whose flags (re)started the timer (LightState.cloud_stamp): the objects flagged
+        # in them are what kept the lamp on; the other flags fell while the timer had time left.
+        triggers = sorted({st.cloud_stamp.to_nsec() for st in states
+                           if st.reason == 1 and s <= st.header.stamp.to_nsec() < eend} & set(frames))
+        restarts = {}
+        for t in triggers:
+            for o in frames[t].obstacles:
+                if o.dangerous:
+                    restarts[o.id] = restarts.get(o.id, 0) + 1
+        kept = sorted(restarts, key=lambda i: (-restarts[i], i))
         H.append("<tr data-episode='%d' data-start='%.3f' data-end='%.3f'><td><a href='#episode-%d'>%d</a></td><td>%s</td>"
-                 "<td>%s</td><td>%.2f</td><td class='l'>%s</td><td>%d</td><td class='l'>%s</td></tr>"
+                 "<td>%s</td><td>%.2f</td><td class='l'>%s</td><td>%d</td><td class='l'>%s</td><td class='l'>%s</td></tr>"
                  % (k, s * 1e-9, eend * 1e-9, k, k, fmt_s(s, t0), fmt_s(eend, t0) if off else "end", (eend - s) * 1e-9,
                     e(on.reason_text or REASONS.get(on.reason, "?")), len(objs),
-                    "id %d, %d frames" % (longest, len(objs[longest])) if longest is not None else "-"))
-        details.append((k, s, eend, on, first, in_ep, objs, longest))
+                    "id %d, %d frames" % (longest, len(objs[longest])) if longest is not None else "-",
+                    ", ".join("id %d (%d of %d)" % (i, restarts[i], len(triggers)) for i in kept[:6])
+                    + (", &hellip;" if len(kept) > 6 else "") if kept else "-"))
+        details.append((k, s, eend, on, first, in_ep, objs, longest, restarts, triggers))
     H.append("</table>")
-    for k, s, eend, on, first, in_ep, objs, longest in details:
+    for k, s, eend, on, first, in_ep, objs, longest, restarts, triggers in details:
         H.append("<div class='ep' id='episode-%d' data-start='%.3f' data-end='%.3f'>" % (k, s * 1e-9, eend * 1e-9))
         H.append("<h3>Episode %d: %s s &ndash; %s s, %s</h3>" % (k, fmt_s(s, t0), fmt_s(eend, t0),
                                                                   e(on.reason_text or REASONS.get(on.reason, "?"))))
@@ -893,12 +917,14 @@ def render(args, out, profile_path, profile, binfo):
             H.append("<p>No object flagged in this episode (%s).</p>" % e(on.reason_text or REASONS.get(on.reason, "?")))
             H.append("</div>")
             continue
-        H.append("<table class='flagged' data-episode='%d'><tr><th>id</th><th>flagged frames</th><th>first flagged s</th>"
+        H.append("<p>The timer was (re)started by %d frame%s; an object flagged in none of them did not keep the lamp on.</p>"
+                 "<table class='flagged' data-episode='%d'><tr><th>id</th><th>timer (re)starts</th><th>flagged frames</th>"
+                 "<th>first flagged s</th>"
                  "<th>x m</th><th>y m</th><th>size l&times;w m</th><th>speed over ground m/s</th><th>relative m/s</th>"
                  "<th>track age</th>%s<th class='l'>why flagged (first flag)</th>%s</tr>"
-                 % (k, "<th>motion</th>" if any(motion_state(o) is not None for v in objs.values() for _, o in v) else "",
+                 % (len(triggers), "" if len(triggers) == 1 else "s", k, "<th>motion</th>" if any(motion_state(o) is not None for v in objs.values() for _, o in v) else "",
                     "<th class='l'>against the ground truth</th>" if has_truth else ""))
-        for oid in sorted(objs, key=lambda i: -len(objs[i])):
+        for oid in sorted(objs, key=lambda i: (-restarts.get(i, 0), -len(objs[i]), i)):
             t, o = objs[oid][0]
             ms = motion_state(o)
             truth_col = ""
@@ -909,9 +935,9 @@ def render(args, out, profile_path, profile, binfo):
                     cs.setdefault(c[0], [0, c[1]])[0] += 1
                 truth_col = "<td class='l'>%s</td>" % "<br>".join(
                     "%s &times;%d: %s" % (n, v[0], e(v[1])) for n, v in sorted(cs.items(), key=lambda x: -x[1][0]))
-            H.append("<tr data-id='%d'><td>%d</td><td>%d</td><td>%s</td><td>%.1f</td><td>%.1f</td><td>%.1f&times;%.1f</td>"
+            H.append("<tr data-id='%d'><td>%d</td><td>%d</td><td>%d</td><td>%s</td><td>%.1f</td><td>%.1f</td><td>%.1f&times;%.1f</td>"
                      "<td>%.1f</td><td>%.1f</td><td>%d</td>%s<td class='l'>%s</td>%s</tr>"
-                     % (oid, oid, len(objs[oid]), fmt_s(t, t0), o.pose.position.x, o.pose.position.y,
+                     % (oid, oid, restarts.get(oid, 0), len(objs[oid]), fmt_s(t, t0), o.pose.position.x, o.pose.position.y,
                         o.dimensions.x, o.dimensions.y, math.hypot(o.velocity_over_ground.x, o.velocity_over_ground.y),
                         o.speed, o.age, "<td>%s</td>" % e(ms) if ms is not None else "", e(why_flagged(o, danger)),
                         truth_col))
