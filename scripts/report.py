@@ -387,36 +387,89 @@ def motion_state(o):
     return motion_state_names(o).get(o.motion_state, str(o.motion_state))
 
 
-def ttc_straight(o, danger):
-    """Seconds until the box, moving at its relative velocity in a straight line, overlaps the
-    predictive corridor (0: now), or -1 within the reaction time. An estimate for the table: the
-    model also turns the vehicle, grows the box by the velocity's uncertainty and applies hysteresis."""
-    w = danger["half_width"] + danger["margin"]
+def ego_pose(vx, vy, w, t, cap):
+    """The vehicle's pose after t at body velocity (vx, vy) and yaw rate w, the turn ending after a
+    heading change of cap (0: never), as icanc's predictEgoPose: (x, y, yaw)."""
+    def turn(t):
+        yaw = w * t
+        if abs(yaw) < 1e-9:
+            return vx * t, vy * t, yaw
+        s, c = math.sin(yaw), math.cos(yaw)
+        return (vx * s + vy * (c - 1.0)) / w, (vx * (1.0 - c) + vy * s) / w, yaw
+    if cap <= 0 or abs(w * t) <= cap:
+        return turn(t)
+    t_turn = cap / abs(w)
+    x, y, yaw = turn(t_turn)
+    c, s = math.cos(yaw), math.sin(yaw)
+    d = t - t_turn
+    return x + (c * vx - s * vy) * d, y + (s * vx + c * vy) * d, yaw
+
+
+def quads_overlap(a, b):
+    """Separating axes of two convex quadrilaterals given as corner lists."""
+    for poly in (a, b):
+        for i in range(4):
+            ex, ey = poly[(i + 1) % 4][0] - poly[i][0], poly[(i + 1) % 4][1] - poly[i][1]
+            nx, ny = -ey, ex
+            pa = [nx * x + ny * y for x, y in a]
+            pb = [nx * x + ny * y for x, y in b]
+            if max(pa) < min(pb) - 1e-9 or max(pb) < min(pa) - 1e-9:
+                return False
+    return True
+
+
+def predicted_ttc(o, ego_twist, danger, with_uncertainty):
+    """Seconds until the obstacle's axis-aligned box, moving at its velocity over ground (the static
+    prior applied), overlaps the corridor seen from where the vehicle will be along its twist (0:
+    now), or -1 within the reaction time: the predictive model's test on the box, without its
+    footprint parts and the planner's path; the box grows by the velocity's uncertainty only when
+    with_uncertainty (the model's own test; without it, the mean prediction)."""
+    hw = danger["half_width"] + danger["margin"]
     length = danger["front"] + danger["stopping"]
-    fm = danger["footprint_margin"]
-    x0, x1 = o.aabb_min.x - fm, o.aabb_max.x + fm
-    y0, y1 = o.aabb_min.y - fm, o.aabb_max.y + fm
-    vx, vy = o.velocity.x, o.velocity.y
-    t, step = 0.0, 0.05
-    while t <= danger["reaction_time"] + 1e-9:
-        if x1 + vx * t >= 0.0 and x0 + vx * t <= length and y1 + vy * t >= -w and y0 + vy * t <= w:
+    vx, vy, w = ego_twist.linear.x, ego_twist.linear.y, ego_twist.angular.z
+    cx, cy = o.pose.position.x, o.pose.position.y
+    sx, sy = max(0.0, o.velocity_std_axes.x), max(0.0, o.velocity_std_axes.y)
+    gx = o.velocity.x + vx - w * cy
+    gy = o.velocity.y + vy + w * cx
+
+    def shrink(v, t):  # staticPriorShrink, the non-negative garrote
+        return 0.0 if abs(v) <= t else v * (1.0 - t * t / (v * v))
+    gx, gy = shrink(gx, danger["static_prior_k"] * sx), shrink(gy, danger["static_prior_k"] * sy)
+    n = int(math.ceil(danger["reaction_time"] / danger["time_step"] - 1e-9))
+    for i in range(n + 1):
+        t = min(i * danger["time_step"], danger["reaction_time"])
+        k = danger["velocity_std_k"] if with_uncertainty else 0.0
+        grow_x = danger["footprint_margin"] + min(k * sx * t, danger["uncertainty_cap"])
+        grow_y = danger["footprint_margin"] + min(k * sy * t, danger["uncertainty_cap"])
+        ex, ey, yaw = ego_pose(vx, vy, w, t, danger["max_heading_change"])
+        c, s = math.cos(-yaw), math.sin(-yaw)
+        box = []
+        for x, y in ((o.aabb_min.x, o.aabb_min.y), (o.aabb_max.x, o.aabb_min.y),
+                     (o.aabb_max.x, o.aabb_max.y), (o.aabb_min.x, o.aabb_max.y)):
+            px, py = x + gx * t - ex, y + gy * t - ey
+            box.append((c * px - s * py, s * px + c * py))
+        corridor = [(-grow_x, -hw - grow_y), (length + grow_x, -hw - grow_y),
+                    (length + grow_x, hw + grow_y), (-grow_x, hw + grow_y)]
+        if quads_overlap(box, corridor):
             return t
-        t += step
     return -1.0
 
 
-def why_flagged(o, danger):
+def why_flagged(o, arr, danger):
     section = {1: "left", 2: "front", 3: "right"}.get(o.section, "?")
     if danger["model"] == "predictive":
-        t = ttc_straight(o, danger)
+        t = predicted_ttc(o, arr.ego_twist, danger, False)
         if t == 0.0:
             return "in the corridor"
         if t > 0.0:
-            return "moving into the corridor in about %.1f s (relative %+.1f, %+.1f m/s)" % (
-                t, o.velocity.x, o.velocity.y)
-        return ("into the corridor within %.0f s only with its velocity's uncertainty (sigma %.2f, %.2f m/s), "
-                "the vehicle's turn or the hysteresis's hold" % (danger["reaction_time"], o.velocity_std_axes.x,
-                                                                 o.velocity_std_axes.y))
+            return "predicted into the corridor in %.1f s (over ground %+.1f, %+.1f m/s)" % (
+                t, o.velocity_over_ground.x, o.velocity_over_ground.y)
+        t = predicted_ttc(o, arr.ego_twist, danger, True)
+        if t >= 0.0:
+            return "into the corridor in %.1f s only with its velocity's uncertainty (sigma %.2f, %.2f m/s)" % (
+                t, o.velocity_std_axes.x, o.velocity_std_axes.y)
+        return ("not into the corridor as its box predicts: its footprint parts or the planner's path, or "
+                "held by the hysteresis (off after %d safe frames)" % danger["off_frames"])
     thr = o.speed * danger["reaction_time"]
     return "%s section, closest %.1f m <= %.1f m/s x %.0f s = %.1f m, heading %.0f deg %s" % (
         section, o.closest_distance, o.speed, danger["reaction_time"], thr, o.heading_deg,
@@ -593,7 +646,7 @@ def draw_bev(path, ctx, t_ns, title, highlight):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
-    from matplotlib.patches import Polygon, Wedge
+    from matplotlib.patches import FancyArrowPatch, Polygon, Wedge
     arr = ctx["frames"][t_ns]
     d = ctx["danger"]
     roi_min, roi_max = ctx["roi"]
@@ -674,9 +727,9 @@ def draw_bev(path, ctx, t_ns, title, highlight):
                             ls=ls, zorder=4))
         vx, vy = o.velocity_over_ground.x, o.velocity_over_ground.y
         if math.hypot(vx, vy) > 0.2:
-            a.annotate("", xy=(o.pose.position.y + vy, o.pose.position.x + vx),
-                       xytext=(o.pose.position.y, o.pose.position.x),
-                       arrowprops=dict(arrowstyle="->", color=colour, lw=1.1), zorder=6)
+            a.add_patch(FancyArrowPatch((o.pose.position.y, o.pose.position.x),
+                                        (o.pose.position.y + vy, o.pose.position.x + vx),
+                                        arrowstyle="->", mutation_scale=9, color=colour, lw=1.1, zorder=6))
         if o.dangerous or o.id in highlight:
             # At the box's near-left corner, kept inside the picture (a box cut by its edge).
             lx = min(max(o.aabb_max.x, xmin + 1.0), xmax - 1.5)
@@ -738,7 +791,10 @@ def render(args, out, profile_path, profile, binfo):
     danger = {"model": model, "half_width": dd.get("half_width_m", 0.7), "reaction_time": dd.get("reaction_time_s", 3.0),
               "margin": pr.get("margin_m", 0.3), "front": pr.get("vehicle_front_m", 0.5),
               "stopping": pr.get("stopping_margin_m", 1.0), "footprint_margin": pr.get("footprint_margin_m", 0.0),
-              "max_heading_change": pr.get("max_heading_change_rad", 0.0)}
+              "max_heading_change": pr.get("max_heading_change_rad", 0.0),
+              "static_prior_k": pr.get("static_prior_k", 0.0), "time_step": pr.get("time_step_s", 0.05),
+              "velocity_std_k": pr.get("velocity_std_k", 1.0), "uncertainty_cap": pr.get("uncertainty_cap_m", 0.5),
+              "off_frames": pr.get("off_frames", 2)}
     lc = get(profile, "light_controller", default={}) or {}
     segments = lc.get("segments") or []
     prep = get(profile, "obstacle_detector", "prep", default={}) or {}
@@ -939,7 +995,7 @@ def render(args, out, profile_path, profile, binfo):
                      "<td>%.1f</td><td>%.1f</td><td>%d</td>%s<td class='l'>%s</td>%s</tr>"
                      % (oid, oid, restarts.get(oid, 0), len(objs[oid]), fmt_s(t, t0), o.pose.position.x, o.pose.position.y,
                         o.dimensions.x, o.dimensions.y, math.hypot(o.velocity_over_ground.x, o.velocity_over_ground.y),
-                        o.speed, o.age, "<td>%s</td>" % e(ms) if ms is not None else "", e(why_flagged(o, danger)),
+                        o.speed, o.age, "<td>%s</td>" % e(ms) if ms is not None else "", e(why_flagged(o, frames[t], danger)),
                         truth_col))
         H.append("</table></div>")
     H.append("<h2>How to read this</h2><p>Bird's-eye pictures: grey dots are the detector's non-ground points, red "
