@@ -1,0 +1,176 @@
+#!/usr/bin/python3
+"""scripts/report on a short simulated drive: one replay of pedestrian_near_toward's bag, then the
+report's content is checked against what the graph answered (OUT_DIR/record.bag, read here on its
+own): the files are there, the episodes listed are the lamp's switches in the recorded light
+states, and every object flagged in an episode's frames is in that episode's table. A headless
+Chromium (Debian's chromium, when installed) screenshots index.html to show that it renders.
+
+Registered in CMakeLists.txt with catkin_run_tests_target; run alone:
+  /usr/bin/python3 test/tools/test_report.py   (with the build's devel/setup.bash sourced)
+"""
+import html.parser
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SCENARIO = os.path.join(ROOT, "config", "scenarios", "pedestrian_near_toward.yaml")
+
+
+def tool(name):
+    """A tool of the devel space this environment sources (CMAKE_PREFIX_PATH), else build/'s."""
+    for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(":") + [os.path.join(ROOT, "build", "devel")]:
+        path = os.path.join(prefix, "lib", "icanc", name)
+        if prefix and os.access(path, os.X_OK):
+            return path
+    raise RuntimeError("no %s: build first (scripts/build) and source devel/setup.bash" % name)
+
+
+class Page(html.parser.HTMLParser):
+    """Episodes of the summary table and the ids of each episode's flagged-object table."""
+
+    def __init__(self):
+        super().__init__()
+        self.episodes = []  # (number, start_s, end_s)
+        self.tables = {}    # episode -> set of ids
+        self.images = []
+        self._table = None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "tr" and "data-episode" in a:
+            self.episodes.append((int(a["data-episode"]), float(a["data-start"]), float(a["data-end"])))
+        elif tag == "table" and a.get("class") == "flagged":
+            self._table = int(a["data-episode"])
+            self.tables[self._table] = set()
+        elif tag == "tr" and "data-id" in a and self._table is not None:
+            self.tables[self._table].add(int(a["data-id"]))
+        elif tag == "img":
+            self.images.append(a["src"])
+
+    def handle_endtag(self, tag):
+        if tag == "table":
+            self._table = None
+
+
+class TestReport(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="icanc_report_test.")
+        cls.out = os.path.join(cls.tmp, "report")
+        bag = os.path.join(cls.tmp, "drive.bag")
+        subprocess.check_call([tool("icanc_sim_bag"), SCENARIO, bag], stdout=subprocess.DEVNULL)
+        cls.result = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "report.py"), bag, cls.out,
+                                  "--vehicle", "zebra"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                 universal_newlines=True, timeout=600)
+        print(cls.result.stdout[-3000:])
+        cls.page = Page()
+        index = os.path.join(cls.out, "index.html")
+        if os.path.isfile(index):
+            with open(index) as f:
+                cls.page.feed(f.read())
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def recorded(self):
+        import rosbag
+        states, arrays = [], []
+        with rosbag.Bag(os.path.join(self.out, "record.bag")) as bag:
+            for topic, m, _ in bag.read_messages(topics=["/icanc/light_state", "/icanc/obstacles_danger"]):
+                (states if topic == "/icanc/light_state" else arrays).append(m)
+        states = sorted((s for s in states if s.input_stamp.to_nsec() > 0), key=lambda s: s.header.stamp.to_nsec())
+        return states, arrays
+
+    def test_files(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stdout[-2000:])
+        for name in ["index.html", "timeline.png", "record.bag", "eval.json", "rows.csv"] + self.page.images:
+            path = os.path.join(self.out, name)
+            self.assertTrue(os.path.isfile(path), name)
+            if name.endswith(".png"):
+                with open(path, "rb") as f:
+                    self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", name)
+        self.assertIn("timeline.png", self.page.images)
+        self.assertTrue(any(i.startswith("ep001_first") for i in self.page.images), self.page.images)
+
+    def test_episodes_are_the_lamp_switches(self):
+        states, _ = self.recorded()
+        ons, prev = [], False
+        for s in states:
+            if s.on and not prev:
+                ons.append(s.header.stamp.to_sec())
+            prev = s.on
+        self.assertGreater(len(ons), 0, "the pedestrian walking up to the robot lights the lamp")
+        self.assertEqual([k for k, _, _ in self.page.episodes], list(range(1, len(ons) + 1)))
+        for (_, start, _), on in zip(self.page.episodes, ons):
+            self.assertAlmostEqual(start, on, places=3)
+
+    def test_every_flagged_object_is_in_its_episode_table(self):
+        _, arrays = self.recorded()
+        checked = 0
+        for k, start, end in self.page.episodes:
+            flagged = {o.id for a in arrays if start - 1e-4 <= a.header.stamp.to_sec() < end
+                       for o in a.obstacles if o.dangerous}
+            self.assertTrue(flagged <= self.page.tables.get(k, set()),
+                            "episode %d: flagged %s, table %s" % (k, sorted(flagged), sorted(self.page.tables.get(k, []))))
+            checked += len(flagged)
+        self.assertGreater(checked, 0)
+
+    def test_browser_renders_it(self):
+        browser = shutil.which("chromium") or shutil.which("chromium-browser")
+        if browser is None:
+            print("test_report: chromium not installed, the screenshot of index.html is skipped")
+            self.skipTest("chromium not installed: no screenshot of index.html (apt-get install chromium)")
+        shot = os.path.join(self.tmp, "shot.png")
+        subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                        "--window-size=1200,2400", "--screenshot=" + shot,
+                        "file://" + os.path.join(self.out, "index.html")],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
+        self.assertTrue(os.path.isfile(shot), "chromium wrote no screenshot")
+        import matplotlib.image
+        img = matplotlib.image.imread(shot)
+        self.assertGreater(img.shape[0], 1000)
+        # The figures are drawn: the page is not blank (many distinct grey levels).
+        self.assertGreater(img[..., :3].std(), 0.05)
+
+
+def write_xml(path, result, seconds):
+    """JUnit XML as catkin's result files (scripts/test_results counts <testcase>, <skipped>)."""
+    import xml.etree.ElementTree as ET
+    suite = ET.Element("testsuite", name="report", tests=str(result.testsRun), failures=str(len(result.failures)),
+                       errors=str(len(result.errors)), skipped=str(len(result.skipped)), time="%.1f" % seconds)
+    outcome = {}
+    for kind, items in (("failure", result.failures), ("error", result.errors)):
+        for test, text in items:
+            outcome[test.id()] = (kind, text)
+    for test, why in result.skipped:
+        outcome[test.id()] = ("skipped", why)
+    ran = getattr(result, "ran", [])
+    for test_id in ran + [i for i in outcome if i not in ran]:  # a failed setUpClass is a case too
+        case = ET.SubElement(suite, "testcase", classname="TestReport", name=test_id.rsplit(".", 1)[-1])
+        if test_id in outcome:
+            kind, text = outcome[test_id]
+            ET.SubElement(case, kind, message=text.strip().splitlines()[-1][:200] if text.strip() else kind).text = text
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+
+
+class Result(unittest.TextTestResult):
+    def startTest(self, test):
+        super().startTest(test)
+        self.__dict__.setdefault("ran", []).append(test.id())
+
+
+if __name__ == "__main__":
+    import time
+    xml = [a[len("--gtest_output=xml:"):] for a in sys.argv[1:] if a.startswith("--gtest_output=xml:")]
+    start = time.time()
+    outcome = unittest.TextTestRunner(resultclass=Result, verbosity=2, stream=sys.stdout).run(
+        unittest.defaultTestLoader.loadTestsFromTestCase(TestReport))
+    if xml:
+        write_xml(xml[0], outcome, time.time() - start)
+    sys.exit(0 if outcome.wasSuccessful() else 1)
