@@ -46,12 +46,13 @@ using icanc::ObstacleDetectorParams;
 using icanc::StageTimes;
 
 struct Series {
-  std::vector<double> prep, ground, cluster, track, total;
+  std::vector<double> prep, ground, cluster, motion, track, total;
   double points = 0.0;  // input points summed over the frames
   void add(const StageTimes& t, std::size_t n) {
     prep.push_back(t.prep_ms);
     ground.push_back(t.ground_ms);
     cluster.push_back(t.cluster_ms);
+    motion.push_back(t.motion_ms);
     track.push_back(t.track_ms);
     total.push_back(t.total_ms());
     points += n;
@@ -75,6 +76,7 @@ void printStages(const Series& classic, const Series& fast) {
   row("preparation", classic.prep, fast.prep);
   row("ground", classic.ground, fast.ground);
   row("clusters + boxes", classic.cluster, fast.cluster);
+  row("free-space motion", classic.motion, fast.motion);
   row("tracking", classic.track, fast.track);
   row("**total**", classic.total, fast.total);
   std::printf("points per second: classic %.2f M, fast %.2f M (%.1fx); p99 ratio %.1fx\n",
