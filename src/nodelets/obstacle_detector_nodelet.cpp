@@ -224,7 +224,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     publishPoints(msg->header, to_target);
   }
 
-  // ~ground_points, ~obstacle_points and ~moving_points (returns in free space; rviz tuning), in the cloud's own frame with its stamp:
+  // ~ground_points, ~obstacle_points and ~moving_points (returns in free space; rviz tuning),
+  // in the cloud's own frame with its stamp,
   // built only while someone subscribes, checked per cloud.
   void publishPoints(const std_msgs::Header& header, const Eigen::Affine3f& to_target) {
     const bool ground = ground_pub_.getNumSubscribers() > 0;
