@@ -125,11 +125,9 @@ void ObstacleDetector::beginMotion(double stamp_s) {
 
 MultiObjectTracker::UpdateResult ObstacleDetector::track(double stamp_s, StageTimes* times) {
   const double m0 = fastNowMs();
-  if (motion_known_) {
+  if (motion_known_) {  // else every box keeps the default evidence: unknown
     motion_.evaluate(detections_);
     motion_.endFrame();
-  } else {
-    for (Box3D& box : detections_) box.motion = MotionEvidence();
   }
   const double t0 = fastNowMs();
   if (times) times->motion_ms = t0 - m0;

@@ -108,7 +108,6 @@ struct TrackerParams {
 
 std::string validate(const TrackerParams& params);
 
-
 struct Track {
   std::uint32_t id = 0;
   // The last associated box moved by the filter's correction, then along the filter's prediction
