@@ -507,6 +507,8 @@ def read_rows(out):
             o = r["outcome"]
             if o == "TP":
                 c = ("true_danger", "truth %s (%s)" % (r["truth_id"], r["truth_type"]))
+            elif o == "SA":
+                c = ("true_danger", "truth %s (%s), standing beside the swept path" % (r["truth_id"], r["truth_type"]))
             elif o == "DC":
                 c = ("unscored", "truth %s (%s), not scored" % (r["truth_id"], r["truth_type"]))
             elif r.get("truth_id"):

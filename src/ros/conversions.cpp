@@ -91,6 +91,9 @@ ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego
   k.ego_velocity = Eigen::Vector2d(ego_twist.linear.x, ego_twist.linear.y);
   k.ego_yaw_rate = ego_twist.angular.z;
   k.hits = o.hits;
+  k.motion = o.motion_state == Obstacle::MOTION_STATIC   ? MotionState::kStatic
+             : o.motion_state == Obstacle::MOTION_MOVING ? MotionState::kMoving
+                                                         : MotionState::kUnknown;
   k.footprint.reserve(o.footprint.size());
   for (const auto& cell : o.footprint)
     k.footprint.emplace_back(Eigen::Vector2d(cell.x_min, cell.y_min),

@@ -56,6 +56,8 @@ std::string validate(const DangerParams& params) {
     why << "danger.uncertainty_cap_m must be >= 0 (got " << params.uncertainty_cap_m << ")";
   else if (!(params.static_prior_k >= 0.0 && params.static_prior_k <= 10.0))
     why << "danger.static_prior_k must be in [0, 10] (got " << params.static_prior_k << ")";
+  else if (!(params.static_clearance_m >= 0.0 && params.static_clearance_m <= 5.0))
+    why << "danger.static_clearance_m must be in [0, 5] m (got " << params.static_clearance_m << ")";
   else if (!(params.footprint_margin_m >= 0.0))
     why << "danger.footprint_margin_m must be >= 0 (got " << params.footprint_margin_m << ")";
   else if (!(params.max_heading_change_rad >= 0.0 && params.max_heading_change_rad <= M_PI))
@@ -116,7 +118,8 @@ double staticPriorShrink(double v, double t) {
 }
 
 bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
-  return object.hits > 0 && object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
+  return object.motion == MotionState::kUnknown && object.hits > 0 &&
+         object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
 }
 
 namespace {
@@ -149,6 +152,7 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   const double ego_w = object.ego_yaw_rate;
   Eigen::Vector2d ground_v = object.velocity.head<2>() + ego_v +
                              ego_w * Eigen::Vector2d(-object.center.y(), object.center.x());
+  if (object.motion == MotionState::kStatic) ground_v.setZero();
   // The static-world prior, per axis with its own sigma.
   ground_v.x() = staticPriorShrink(ground_v.x(), params.static_prior_k * sigma_x);
   ground_v.y() = staticPriorShrink(ground_v.y(), params.static_prior_k * sigma_y);
@@ -192,6 +196,17 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
   return -1.0;
 }
 
+double sweptPathTimeToReach(const ObjectKinematics& object, const DangerParams& params) {
+  DangerParams swept = params;
+  swept.margin_m = params.static_clearance_m;
+  swept.stopping_margin_m = params.static_clearance_m;
+  swept.footprint_margin_m = 0.0;
+  swept.velocity_std_k = 0.0;
+  ObjectKinematics still = object;
+  still.motion = MotionState::kStatic;
+  return predictedTimeToCorridor(still, swept);
+}
+
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params) {
   DangerAssessment a;
   a.speed_mps = getSpeedOfObject(object.velocity);
@@ -200,7 +215,10 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
   a.heading_deg = headingDeg(object.velocity);
   a.threshold_m = a.speed_mps * params.reaction_time_s;
   a.moving_toward = isMovingTowardMe(a.heading_deg, a.section, params.heading_window_deg);
-  if (params.model == DangerModel::kPredictive) {
+  if (params.model == DangerModel::kPredictive && object.motion == MotionState::kStatic) {
+    a.time_to_corridor_s = a.mean_time_to_corridor_s = sweptPathTimeToReach(object, params);
+    a.dangerous = a.time_to_corridor_s >= 0.0;
+  } else if (params.model == DangerModel::kPredictive) {
     a.time_to_corridor_s = predictedTimeToCorridor(object, params);
     // The mean footprint lies inside the grown one: it can only reach the corridor later, if at all.
     if (a.time_to_corridor_s >= 0.0) {
@@ -214,7 +232,9 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
       a.time_to_corridor_s = a.mean_time_to_corridor_s = -1.0;
     a.dangerous = a.time_to_corridor_s >= 0.0;
   } else {
-    a.dangerous = a.distance_m <= a.threshold_m && a.moving_toward;
+    // The sections split the frontal field of view: what lies wholly behind the vehicle origin is
+    // in none of them (a car behind, receding at the vehicle's speed, heads at 180 degrees).
+    a.dangerous = object.aabb_max.x() >= 0.0 && a.distance_m <= a.threshold_m && a.moving_toward;
   }
   return a;
 }

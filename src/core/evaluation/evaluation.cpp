@@ -89,22 +89,6 @@ std::vector<Eigen::AlignedBox2d> orientedFootprint(const TruthObject& o) {
   return parts;
 }
 
-// What a perfect tracker would hand the danger model for a true object, with the frame's ego twist:
-// the true box (its bounds, and its oriented footprint as parts), the labelled relative velocity.
-ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame) {
-  ObjectKinematics k;
-  k.ego_velocity = frame.ego_velocity;
-  k.ego_yaw_rate = frame.ego_yaw_rate;
-  k.ego_path = frame.ego_path;
-  const Eigen::Vector2d reach = axisAlignedReach(o);
-  k.center << o.center, 0.0;
-  k.aabb_min << o.center - reach, 0.0;
-  k.aabb_max << o.center + reach, 0.0;
-  k.footprint = orientedFootprint(o);
-  if (o.has_velocity) k.velocity << o.velocity, 0.0;
-  return k;
-}
-
 Outcome outcomeOf(bool truly_dangerous, bool predicted) {
   return truly_dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
                          : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
@@ -117,10 +101,38 @@ void count(Confusion& c, Outcome outcome) {
     case Outcome::kFalseNegative: ++c.fn; break;
     case Outcome::kTrueNegative: ++c.tn; break;
     case Outcome::kDontCare: break;
+    case Outcome::kStandingApart: break;
   }
 }
 
 }  // namespace
+
+ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame, double static_speed_mps) {
+  ObjectKinematics k;
+  k.ego_velocity = frame.ego_velocity;
+  k.ego_yaw_rate = frame.ego_yaw_rate;
+  k.ego_path = frame.ego_path;
+  const Eigen::Vector2d reach = axisAlignedReach(o);
+  k.center << o.center, 0.0;
+  k.aabb_min << o.center - reach, 0.0;
+  k.aabb_max << o.center + reach, 0.0;
+  k.footprint = orientedFootprint(o);
+  if (o.has_velocity) {
+    k.velocity << o.velocity, 0.0;
+    if (frame.ego_motion) {
+      const Eigen::Vector2d over_ground =
+          o.velocity + frame.ego_velocity + frame.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
+      k.motion = over_ground.norm() < static_speed_mps ? MotionState::kStatic : MotionState::kMoving;
+    }
+  }
+  return k;
+}
+
+bool standsApart(const TruthObject& o, const EvalFrame& frame, const EvalParams& params) {
+  if (!o.dangerous || o.horizon_cut || params.danger.model != DangerModel::kPredictive) return false;
+  const ObjectKinematics k = perfectTrack(o, frame, params.static_speed_mps);
+  return k.motion == MotionState::kStatic && sweptPathTimeToReach(k, params.danger) < 0.0;
+}
 
 Eigen::AlignedBox2d footprintBounds(const TruthObject& truth) {
   const Eigen::Vector2d reach = axisAlignedReach(truth);
@@ -134,6 +146,7 @@ const char* toString(Outcome outcome) {
     case Outcome::kFalseNegative: return "FN";
     case Outcome::kTrueNegative: return "TN";
     case Outcome::kDontCare: return "DC";
+    case Outcome::kStandingApart: return "SA";
   }
   return "?";
 }
@@ -228,10 +241,13 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     std::set<std::uint32_t> flagged_ids;  // true objects flagged (match or fragment) this frame
     bool any_perfect_flag = false;
     std::set<std::uint32_t> perfect_flagged;
+    std::set<std::uint32_t> apart;  // dangerous by the corridor, beside the swept path
+    for (const TruthObject& o : f.truth)
+      if (standsApart(o, f, params)) apart.insert(o.id);
     for (const TruthObject& o : truth) {
-      const DangerAssessment a = assessDanger(perfectTrack(o, f), perfect_danger);
+      const DangerAssessment a = assessDanger(perfectTrack(o, f, params.static_speed_mps), perfect_danger);
       const bool flagged = hysteresis ? perfect_hysteresis.update(o.id, a, f.t) : a.dangerous;
-      if (!o.horizon_cut) count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
+      if (!o.horizon_cut && !apart.count(o.id)) count(r.perfect_tracks, outcomeOf(o.dangerous, flagged));
       any_perfect_flag |= flagged;
       if (flagged) perfect_flagged.insert(o.id);
     }
@@ -329,8 +345,14 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
                                                   : LampCause::kLabelledPerception);
       }
       // Danger unknown (the labels end within the horizon): not scored, as KITTI's DontCare.
-      const Outcome outcome = o.horizon_cut ? Outcome::kDontCare : outcomeOf(o.dangerous, predicted);
+      const Outcome outcome = o.horizon_cut      ? Outcome::kDontCare
+                              : apart.count(o.id) ? Outcome::kStandingApart
+                                                  : outcomeOf(o.dangerous, predicted);
       count(r.danger, outcome);
+      if (outcome == Outcome::kStandingApart) {
+        ++r.danger_standing_apart;
+        r.danger_standing_apart_flagged += predicted;
+      }
       if (outcome == Outcome::kFalseNegative && merged >= 0 && dets[merged].dangerous)
         ++r.danger_fn_in_flagged_merge;
       if (rows) {
@@ -377,11 +399,12 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
     // Episodes over all true objects with a label (seen or not: a danger nobody saw is missed).
     for (const TruthObject& o : f.truth) {
       Episode& e = episodes[o.id];
-      if (o.dangerous && !e.open) {
+      const bool dangerous = o.dangerous && !apart.count(o.id);
+      if (dangerous && !e.open) {
         e.open = true;
         e.entry_t = f.t + std::max(0.0, o.time_to_corridor);
       }
-      if (!o.dangerous) close_episode(e);
+      if (!dangerous) close_episode(e);
       // Caught: the lamp on because of this object (its detection or a fragment flagged), not the
       // lamp on for any reason (another object, the watchdog) while it happened to be dangerous.
       if (e.open && f.lamp_on && flagged_ids.count(o.id) && e.first_on < 0.0) e.first_on = f.t;
@@ -450,7 +473,7 @@ std::string motionJson(const MotionCounts& c) {
 }  // namespace
 
 std::string toTable(const EvalReport& r, const std::string& title) {
-  char buf[2048];
+  char buf[4096];
   const double lead_min = r.lead_times_s.empty() ? 0.0 : *std::min_element(r.lead_times_s.begin(), r.lead_times_s.end());
   const double lead_p50 = percentile(r.lead_times_s, 0.5);
   std::snprintf(buf, sizeof(buf),
@@ -458,6 +481,7 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       "frames %zu (processed %zu, ego motion extrapolated, jumped or lost in %zu)\n"
       "danger per object-frame: TP %llu FP %llu FN %llu TN %llu (false alarms without a true object: %llu)\n"
       "  precision %.2f %%  recall %.2f %%  accuracy %.2f %%  F1 %.2f %%\n"
+      "  standing beside the swept path, dangerous by the corridor only (not scored): %llu object-frames, flagged %llu\n"
       "danger episodes: %zu caught of %zu; warning lead time p50 %.2f s, min %.2f s\n"
       "detection: recall %.2f %%  precision %.2f %% (BEV centre to true footprint); id switches %zu; velocity RMSE %.2f m/s (n %zu)\n"
       "  found with the track's velocity within %.1f m/s of the truth's: %llu (%.2f %% of true objects)\n"
@@ -474,6 +498,8 @@ std::string toTable(const EvalReport& r, const std::string& title) {
       static_cast<unsigned long long>(r.danger.fn), static_cast<unsigned long long>(r.danger.tn),
       static_cast<unsigned long long>(r.false_alarms_unmatched),
       100 * r.danger.precision(), 100 * r.danger.recall(), 100 * r.danger.accuracy(), 100 * r.danger.f1(),
+      static_cast<unsigned long long>(r.danger_standing_apart),
+      static_cast<unsigned long long>(r.danger_standing_apart_flagged),
       r.caught, r.episodes, lead_p50, lead_min,
       100 * r.detection.recall(), 100 * r.detection.precision(), r.id_switches, r.velocity_rmse,
       r.velocity_samples, r.velocity_agree_mps,
@@ -511,6 +537,8 @@ std::string toJson(const EvalReport& r, const std::string& name) {
     << ", \"ego_motion_faults\": " << r.ego_motion_faults << ", ";
   conf("danger", r.danger);
   j << ", \"false_alarms_unmatched\": " << r.false_alarms_unmatched;
+  j << ", \"danger_standing_apart\": {\"n\": " << r.danger_standing_apart
+    << ", \"flagged\": " << r.danger_standing_apart_flagged << "}";
   j << ", \"episodes\": " << r.episodes << ", \"caught\": " << r.caught << ", \"lead_times_s\": [";
   for (std::size_t i = 0; i < r.lead_times_s.size(); ++i) j << (i ? ", " : "") << r.lead_times_s[i];
   j << "], ";

@@ -485,9 +485,10 @@ bool updateMotionState(Track& track, const MotionEvidence& evidence) {
   if (reading == MotionState::kMoving) {
     if (track.motion != MotionState::kStatic || track.moving_in_row >= 2) track.motion = MotionState::kMoving;
   } else {
-    const double speed = track.velocity().head<2>().norm();
+    const double speed = track.filter.velocity().head<2>().norm();
+    const auto& P = track.filter.covariance();
     const bool settled_motion = track.hits >= kSettledHits && speed > kSettledSpeedMps &&
-                                speed > 3.0 * track.velocityStd();
+                                speed > 3.0 * std::sqrt(P(3, 3) + P(4, 4));
     if (track.motion == MotionState::kUnknown && !settled_motion) track.motion = MotionState::kStatic;
     else if (track.motion == MotionState::kMoving && track.static_in_row >= 3 && !settled_motion)
       track.motion = MotionState::kStatic;
@@ -495,12 +496,18 @@ bool updateMotionState(Track& track, const MotionEvidence& evidence) {
   return track.motion != before;
 }
 
+Eigen::Vector3d Track::velocity() const {
+  return motion == MotionState::kStatic ? Eigen::Vector3d::Zero() : filter.velocity();
+}
+
 double Track::velocityStd() const {
+  if (motion == MotionState::kStatic) return std::sqrt(2.0) * kStaticVelocityStd;
   const auto& P = filter.covariance();
   return std::sqrt(P(3, 3) + P(4, 4));
 }
 
 Eigen::Vector2d Track::velocityStdXY() const {
+  if (motion == MotionState::kStatic) return Eigen::Vector2d::Constant(kStaticVelocityStd);
   const auto& P = filter.covariance();
   return Eigen::Vector2d(std::sqrt(P(3, 3)), std::sqrt(P(4, 4)));
 }
@@ -654,6 +661,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
 
   // Update matched tracks, age every track, drop the ones missed too often.
   const double measurement_variance = params_.measurement_std_m * params_.measurement_std_m;
+  const double velocity_variance = params_.initial_velocity_std * params_.initial_velocity_std;
   detection_used_.assign(num_detections, 0);
   for (int i = 0; i < num_tracks; ++i) {
     Track& track = tracks_[i];
@@ -691,7 +699,6 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                 tracks_.end());
 
   // Birth: one tentative track per unassigned detection with the points to start one.
-  const double velocity_variance = params_.initial_velocity_std * params_.initial_velocity_std;
   for (int j = 0; j < num_detections; ++j) {
     if (detection_used_[j] || !finiteCenter(detections[j]) ||
         detections[j].num_points < params_.min_birth_points)

@@ -443,6 +443,61 @@ TEST(Evaluate, DangerModelOnPerfectTracks) {
   EXPECT_EQ(predictive.fn, 1u);
 }
 
+// The predictive model judges what stands still by the vehicle's swept path, the truth by its
+// wider corridor: a parked car standing in the corridor but beside the swept path is counted apart
+// (not a miss, no episode); one protruding into the swept path is scored as any danger.
+TEST(Evaluate, StandingBesideTheSweptPathIsCountedApart) {
+  const auto run = [](DangerModel model) {
+    std::vector<EvalFrame> frames;
+    for (int i = 0; i < 5; ++i) {
+      // Road car at 8 m/s: corridor |y| <= 1.5 m, swept path |y| <= 1.4 m.
+      TruthObject kerb = truth(1, 12.0 - 0.8 * i, 2.4, true, 0.5);  // y 1.5 .. 3.3
+      TruthObject protruding = truth(2, 20.0 - 0.8 * i, -2.0, true, 1.5);  // y -2.9 .. -1.1
+      kerb.size = protruding.size = Eigen::Vector2d(4.5, 1.8);
+      kerb.velocity = protruding.velocity = Eigen::Vector2d(-8.0, 0.0);  // standing still
+      EvalFrame f = frame(0.1 * i, true, {kerb, protruding},
+                          {det(11, kerb.center.x(), kerb.center.y(), false, -8.0),
+                           det(12, protruding.center.x(), protruding.center.y(), true, -8.0)});
+      f.ego_motion = true;
+      f.ego_velocity = Eigen::Vector2d(8.0, 0.0);
+      frames.push_back(f);
+    }
+    EvalParams p;
+    p.danger.model = model;
+    p.danger.half_width_m = 1.2;
+    p.danger.reaction_time_s = 2.0;
+    p.danger.vehicle_front_m = 2.0;
+    p.danger.stopping_margin_m = 5.0;
+    std::vector<ScoredRow> rows;
+    const EvalReport r = evaluate(frames, p, &rows);
+    EXPECT_EQ(r.danger.tp, 5u);
+    EXPECT_EQ(std::count_if(rows.begin(), rows.end(),
+                            [](const ScoredRow& row) { return row.outcome == Outcome::kStandingApart; }),
+              static_cast<long>(r.danger_standing_apart));
+    return r;
+  };
+  const EvalReport predictive = run(DangerModel::kPredictive);
+  EXPECT_EQ(predictive.danger.fn, 0u);
+  EXPECT_EQ(predictive.danger_standing_apart, 5u);
+  EXPECT_EQ(predictive.danger_standing_apart_flagged, 0u);
+  EXPECT_EQ(predictive.episodes, 1u);  // the protruding car's only
+  EXPECT_EQ(predictive.caught, 1u);
+  EXPECT_NE(toJson(predictive, "t").find("\"danger_standing_apart\": {\"n\": 5, \"flagged\": 0}"),
+            std::string::npos);
+  EXPECT_NE(toTable(predictive, "t").find("beside the swept path"), std::string::npos);
+  // The paper's rule has no swept path: the car at the kerb is a miss.
+  const EvalReport paper = run(DangerModel::kPaper);
+  EXPECT_EQ(paper.danger.fn, 5u);
+  EXPECT_EQ(paper.danger_standing_apart, 0u);
+  EXPECT_EQ(paper.episodes, 2u);
+  // Without ego motion nothing is known to stand still: scored as before.
+  std::vector<EvalFrame> relative{frame(0.0, true, {truth(1, 12.0, 2.4, true, 0.5)}, {})};
+  relative[0].truth[0].size = Eigen::Vector2d(4.5, 1.8);
+  EvalParams p;
+  p.danger.model = DangerModel::kPredictive;
+  EXPECT_EQ(evaluate(relative, p).danger.fn, 1u);
+}
+
 // Perfect tracks hand the model the true oriented box (as parts) and no footprint margin (the
 // true box lacks nothing the LiDAR did not see). Zebra's corridor: |y| <= 1.0 m, 0 <= x <= 1.5 m.
 TEST(Evaluate, PerfectTracksAreTheOrientedBoxWithoutTheLidarMargin) {

@@ -30,6 +30,9 @@ TEST(TrackerMotion, JitteringFragmentStaysStatic) {
   const Track* t = &tracker.tracks().front();
   EXPECT_EQ(t->motion, MotionState::kStatic);
   EXPECT_EQ(t->evidence.seen, 35);
+  // Held at zero: the jumps of its visible part are not read as motion.
+  EXPECT_LT(t->velocity().head<2>().norm(), 0.05);
+  EXPECT_LT(t->velocityStd(), 0.1);
 }
 
 TEST(TrackerMotion, WalkerMeasuredFromItsFirstFrames) {
@@ -49,6 +52,7 @@ TEST(TrackerMotion, StandingWalkerStartsToWalk) {
   for (int k = 0; k < 10; ++k)
     tracker.update(0.1 * k, {withMotion(test::box(10.0, y), MotionState::kStatic)});
   EXPECT_EQ(tracker.tracks().front().motion, MotionState::kStatic);
+  EXPECT_EQ(tracker.tracks().front().velocity().head<2>().norm(), 0.0);
   y += 0.14;
   tracker.update(1.0, {withMotion(test::box(10.0, y), MotionState::kMoving)});
   EXPECT_EQ(tracker.tracks().front().motion, MotionState::kStatic);  // one glimpse is not enough

@@ -107,6 +107,7 @@ void visitParams(Reader& r, DangerParams& p) {
   r("predictive/velocity_std_k", p.velocity_std_k);
   r("predictive/uncertainty_cap_m", p.uncertainty_cap_m);
   r("predictive/footprint_margin_m", p.footprint_margin_m);
+  r("predictive/static_clearance_m", p.static_clearance_m);
   r("predictive/static_prior_k", p.static_prior_k);
   r("predictive/max_heading_change_rad", p.max_heading_change_rad);
   r("predictive/motion_min_hits", p.motion_min_hits);

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>  // AlignedBox
 
 #include "icanc/core/motion/ego_path.hpp"
+#include "icanc/core/motion/motion_state.hpp"
 
 namespace icanc {
 
@@ -59,6 +60,12 @@ struct DangerParams {
   // speed; a settled track (sigma 0.04 m/s) keeps its velocity. Meaningful with ego motion
   // (velocities over ground); 0 = off.
   double static_prior_k = 0.0;
+  // A static obstacle (ObjectKinematics::motion) is dangerous only where the vehicle's own swept
+  // footprint reaches it within the reaction time: the vehicle (half_width_m beside its axis,
+  // vehicle_front_m ahead) along its predicted path, grown by this clearance on every side [m].
+  // A parked car beside the lane or a wall beside the road is not in the way; a car protruding
+  // into the lane or a thing lying in it is.
+  double static_clearance_m = 0.2;
   // The vehicle's predicted path turns at the current yaw rate until its heading has changed by
   // this much, then goes straight on [rad]: a turn ends (a bend, a lane change, the LiDAR
   // odometry's yaw rate at a bend's entry), and a constant turn rate carried over the whole
@@ -140,6 +147,9 @@ struct ObjectKinematics {
   // Detections associated with the track so far (icanc/Obstacle hits); 0 = unknown, judged as a
   // settled track (DangerParams::motion_min_hits does not apply).
   std::uint32_t hits = 0;
+  // kPredictive: whether it moves, from free space (icanc/Obstacle motion_state). kStatic: judged
+  // by the vehicle's swept path (sweptPathTimeToReach); kMoving and kUnknown by its prediction.
+  MotionState motion = MotionState::kUnknown;
 };
 
 struct DangerAssessment {
@@ -160,10 +170,13 @@ struct DangerAssessment {
 };
 
 // Dispatches on params.model. kPaper (Listing 1): dangerous when distance <= speed *
-// reaction_time and isMovingTowardMe. kPredictive: dangerous when timeToCorridor >= 0 (section,
-// distance, speed, heading and moving_toward are filled as for the paper's rule, for display);
-// a young track (isYoungTrack) only when timeToCorridor <= immediate_ttc_s (else it is -1).
-// The section is that of the closest point of [aabb_min, aabb_max] (getSection).
+// reaction_time and isMovingTowardMe, for what is ahead of the vehicle origin (the sections split
+// the frontal field of view: a box wholly behind it is in none). kPredictive: a static object
+// when the vehicle's swept path reaches it (sweptPathTimeToReach >= 0), any other when
+// predictedTimeToCorridor >= 0 (section, distance, speed, heading and moving_toward are filled as
+// for the paper's rule, for display); a young track of unknown motion (isYoungTrack) only when
+// that time is at most immediate_ttc_s (else it is -1). The section is that of the closest point
+// of [aabb_min, aabb_max] (getSection).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
 // kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at its
@@ -176,6 +189,13 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
 // moving at the relative velocity against the corridor ahead.
 double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParams& params);
 
+// kPredictive's rule for a static object: the first time within the reaction time that the
+// vehicle's own footprint (|y| <= half_width_m, x up to vehicle_front_m), grown by
+// static_clearance_m on every side and moved along its predicted path (twist or planner's path),
+// overlaps the object's footprint standing still; -1 when it does not. No velocity uncertainty
+// and no footprint margin: the object does not move, and the clearance is the margin.
+double sweptPathTimeToReach(const ObjectKinematics& object, const DangerParams& params);
+
 // The static-world prior on one velocity component v with threshold t = k * sigma >= 0: the
 // non-negative garrote (Breiman 1995), v * (1 - t^2 / v^2) beyond t, 0 within it. Continuous, as
 // the soft threshold (|v| - t) it replaced, but it takes t^2 / |v| from a clearly moving object
@@ -183,7 +203,8 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
 // 0.76 m/s keeps 9.6 of its 9.8 m/s rather than 8.3 (which brought it 3 m closer over 2 s).
 double staticPriorShrink(double v, double t);
 
-// A track with fewer than params.motion_min_hits detections (hits known, i.e. > 0).
+// A track of unknown motion with fewer than params.motion_min_hits detections (hits known, i.e.
+// > 0): free space has not told whether it moves, and its filter's velocity is still noise.
 bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params);
 
 // Per-track hysteresis of the danger label (params: on_frames, off_frames, immediate_ttc_s,

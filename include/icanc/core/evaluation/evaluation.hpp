@@ -139,6 +139,14 @@ struct EvalReport {
   // that holds them; which of two walkers in one box the matching picks is a coin toss).
   std::uint64_t detection_merged = 0;
   std::uint64_t danger_fn_in_flagged_merge = 0;
+  // The predictive model judges what stands still by the vehicle's swept path
+  // (sweptPathTimeToReach), the ground truth by its wider corridor. True objects standing still
+  // over ground (EvalParams::static_speed_mps, with ego motion) that are dangerous by the corridor
+  // but beside the swept path (a parked car at the kerb, a wall beside the road) are counted here,
+  // not in `danger`, and open no episode; _flagged: of them, flagged all the same. kPredictive runs
+  // only (the paper's rule has no swept path).
+  std::uint64_t danger_standing_apart = 0;
+  std::uint64_t danger_standing_apart_flagged = 0;
   // Of detection.tp: true objects with a known velocity whose matched track's velocity (relative
   // to the vehicle, planar) lies within EvalParams::velocity_agree_mps of it. A box on the object
   // whose track moves with the vehicle instead (one scan line sliding along a parked car's side or
@@ -204,10 +212,12 @@ struct EvalReport {
 // no true object (a false alarm). Counting the TP/FP/FN/TN rows gives EvalReport::danger.
 // kDontCare rows are dangerous detections on a true object that is not scored (too few returns,
 // out of range or view): not counted, listed because they light the lamp (duty_cycle).
+// kStandingApart rows are true objects dangerous by the corridor that stand beside the swept path
+// (EvalReport::danger_standing_apart): not counted in `danger`.
 enum class Outcome : std::uint8_t {
-  kTruePositive, kFalsePositive, kFalseNegative, kTrueNegative, kDontCare
+  kTruePositive, kFalsePositive, kFalseNegative, kTrueNegative, kDontCare, kStandingApart
 };
-const char* toString(Outcome outcome);  // "TP", "FP", "FN", "TN", "DC"
+const char* toString(Outcome outcome);  // "TP", "FP", "FN", "TN", "DC", "SA"
 
 struct ScoredRow {
   double t = 0.0;
@@ -232,8 +242,19 @@ double distanceToFootprint(const TruthObject& truth, const Eigen::Vector2d& poin
 // The axis-aligned bounds (x, y) of a true object's oriented footprint.
 Eigen::AlignedBox2d footprintBounds(const TruthObject& truth);
 
-// `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger, and
-// one kDontCare row per dangerous detection on an unscored true object.
+// What a perfect tracker would hand the danger model for a true object in `frame`: its box and
+// oriented footprint, its labelled relative velocity, the frame's ego twist and path, and its
+// motion state from its speed over ground (static below static_speed_mps, else moving; unknown
+// without ego motion or a labelled velocity).
+ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame, double static_speed_mps);
+
+// True when `o` is dangerous by the ground truth's corridor, stands still over ground (its perfect
+// track static) and the vehicle's swept path does not reach it (EvalReport::danger_standing_apart).
+bool standsApart(const TruthObject& o, const EvalFrame& frame, const EvalParams& params);
+
+// `rows`, when given, receives one ScoredRow per object-frame counted in EvalReport::danger, one
+// kDontCare row per dangerous detection on an unscored true object and one kStandingApart row per
+// true object counted apart.
 EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& params,
                     std::vector<ScoredRow>* rows = nullptr);
 

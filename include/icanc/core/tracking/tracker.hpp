@@ -136,11 +136,18 @@ struct Track {
   int static_in_row = 0;      // ... and static
 
   int coasted() const { return missed + held; }  // consecutive frames without a detection
-  Eigen::Vector3d velocity() const { return filter.velocity(); }
-  // 1-sigma uncertainty of the planar velocity [m/s] (sqrt of the x/y velocity variance sum).
+  // Its velocity over ground: zero while free space says it stands still (the jitter of a
+  // fragment's faces is not motion), the filter's otherwise. The filter itself runs on in either
+  // state, so a track that turns moving has its velocity at once and its box never lags.
+  Eigen::Vector3d velocity() const;
+  // 1-sigma uncertainty of the planar velocity [m/s] (sqrt of the x/y velocity variance sum);
+  // kStaticVelocityStd per axis while static.
   double velocityStd() const;           // planar: sqrt(var vx + var vy)
   Eigen::Vector2d velocityStdXY() const;  // per axis: sqrt(var vx), sqrt(var vy)
 };
+
+// A static track's reported velocity uncertainty per axis [m/s] (Track::velocity).
+constexpr double kStaticVelocityStd = 0.05;
 
 // A track's motion state after a detection read `evidence`: unknown takes the first reading;
 // a static track turns moving after two moving readings in a row (one is a glimpse of what moves
