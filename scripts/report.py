@@ -189,6 +189,7 @@ def replay(args, bag_path, out, profile_path, profile, binfo):
     core = subprocess.Popen(["roscore", "-p", str(port)], stdout=log, stderr=subprocess.STDOUT, env=env,
                             start_new_session=True)
     launch = None
+    closers = []  # what the replay leaves open on an error (the record: closed, so it is readable)
     try:
         import rosgraph
         master = rosgraph.Master("/icanc_report")
@@ -206,6 +207,7 @@ def replay(args, bag_path, out, profile_path, profile, binfo):
         import threading
         lock = threading.Lock()
         record = rosbag.Bag(os.path.join(out, "record.bag"), "w")
+        closers.append(lambda: record.close())
         seen = {"frames": 0, "lamp": None, "t": None}
 
         def write(topic, msg, stamp):
@@ -256,9 +258,11 @@ def replay(args, bag_path, out, profile_path, profile, binfo):
         for s in subs:
             s.unregister()
         with lock:
-            record.close()
+            closers.pop()()
         rospy.signal_shutdown("replay done")
     finally:
+        for close in closers:
+            close()
         for p in (launch, core):
             if p is not None and p.poll() is None:
                 os.killpg(p.pid, signal.SIGINT)

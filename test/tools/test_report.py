@@ -78,6 +78,8 @@ class TestReport(unittest.TestCase):
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
     def recorded(self):
+        if self.result.returncode != 0:
+            self.fail(self.failure())
         import rosbag
         states, arrays = [], []
         with rosbag.Bag(os.path.join(self.out, "record.bag")) as bag:
@@ -86,8 +88,19 @@ class TestReport(unittest.TestCase):
         states = sorted((s for s in states if s.input_stamp.to_nsec() > 0), key=lambda s: s.header.stamp.to_nsec())
         return states, arrays
 
+    def failure(self):
+        """Why scripts/report.py failed: its last line first (a summary shows a message's first
+        lines), then the end of its output and of the graph's replay log."""
+        lines = self.result.stdout.strip().splitlines() or ["(no output)"]
+        text = "scripts/report.py exited %d: %s\n%s" % (self.result.returncode, lines[-1], "\n".join(lines[-40:]))
+        log = os.path.join(self.out, "replay.log")
+        if os.path.isfile(log):
+            with open(log, errors="replace") as f:
+                text += "\n--- replay.log:\n" + "".join(f.readlines()[-40:])
+        return text
+
     def test_files(self):
-        self.assertEqual(self.result.returncode, 0, self.result.stdout[-2000:])
+        self.assertEqual(self.result.returncode, 0, self.failure())
         for name in ["index.html", "timeline.png", "record.bag", "eval.json", "rows.csv"] + self.page.images:
             path = os.path.join(self.out, name)
             self.assertTrue(os.path.isfile(path), name)
@@ -125,12 +138,18 @@ class TestReport(unittest.TestCase):
         if browser is None:
             print("test_report: chromium not installed, the screenshot of index.html is skipped")
             self.skipTest("chromium not installed: no screenshot of index.html (apt-get install chromium)")
+        index = os.path.join(self.out, "index.html")
+        if not os.path.isfile(index):
+            self.fail("no index.html to render: " + self.failure())
         shot = os.path.join(self.tmp, "shot.png")
-        subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-                        "--window-size=1200,2400", "--screenshot=" + shot,
-                        "file://" + os.path.join(self.out, "index.html")],
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
-        self.assertTrue(os.path.isfile(shot), "chromium wrote no screenshot")
+        # Its own profile directory (not the user's, which another Chromium may hold) and no
+        # shared memory (a container's /dev/shm is small).
+        run = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                              "--user-data-dir=" + os.path.join(self.tmp, "chromium"), "--hide-scrollbars",
+                              "--window-size=1200,2400", "--screenshot=" + shot, "file://" + index],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, timeout=120)
+        self.assertTrue(os.path.isfile(shot), "chromium wrote no screenshot (exit %d): %s"
+                        % (run.returncode, run.stdout[-1500:]))
         import matplotlib.image
         img = matplotlib.image.imread(shot)
         self.assertGreater(img.shape[0], 1000)
