@@ -15,10 +15,13 @@ std::string validate(const SensorHealthParams& params) {
   else if (!(params.max_range_m > params.min_range_m && params.max_range_m <= 1e4))
     why << "sensor_health/max_range_m must be in (min_range_m, 10000] (got " << params.max_range_m
         << ")";
-  else if (!(params.min_frame_share >= 0.0 && params.min_frame_share < 1.0))
-    why << "sensor_health/min_frame_share must be in [0, 1) (got " << params.min_frame_share << ")";
-  else if (!(params.min_window_share >= 0.0 && params.min_window_share < 1.0))
-    why << "sensor_health/min_window_share must be in [0, 1) (got " << params.min_window_share
+  // 0 would switch the blind-sensor check off (an all-NaN cloud: lamp off, diagnostics OK).
+  else if (!(params.min_frame_share > 0.0 && params.min_frame_share < 1.0))
+    why << "sensor_health/min_frame_share must be in (0, 1): 0 would never call the sensor blind (got "
+        << params.min_frame_share << ")";
+  else if (!(params.min_window_share > 0.0 && params.min_window_share < 1.0))
+    why << "sensor_health/min_window_share must be in (0, 1): 0 would never call the sensor blind (got "
+        << params.min_window_share
         << ")";
   else if (params.window_frames < 1 || params.window_frames > 1000)
     why << "sensor_health/window_frames must be in [1, 1000] (got " << params.window_frames << ")";

@@ -20,6 +20,9 @@ const char* toString(DecodeError error) {
       return "inconsistent layout (field past point_step, point_step 0 or row_step too small)";
     case DecodeError::kTruncatedData: return "data shorter than row_step * height";
     case DecodeError::kTooManyPoints: return "more points than the configured maximum";
+    case DecodeError::kDuplicateX: return "two fields named x: which one is the coordinate is unknown";
+    case DecodeError::kDuplicateY: return "two fields named y: which one is the coordinate is unknown";
+    case DecodeError::kDuplicateZ: return "two fields named z: which one is the coordinate is unknown";
   }
   return "unknown decode error";
 }
@@ -38,6 +41,12 @@ const FieldDesc* findField(const std::vector<FieldDesc>& fields, const char* nam
     if (f.name == name) return &f;
   }
   return nullptr;
+}
+
+int countField(const std::vector<FieldDesc>& fields, const char* name) {
+  int n = 0;
+  for (const FieldDesc& f : fields) n += f.name == name;
+  return n;
 }
 
 // Size in bytes of a supported coordinate type, 0 for anything else.
@@ -77,6 +86,11 @@ DecodeError planDecode(const RawCloud& in, std::size_t max_points, DecodePlan& p
   const FieldDesc* fy = findField(in.fields, "y");
   const FieldDesc* fz = findField(in.fields, "z");
   if (!fx || !fy || !fz) return DecodeError::kMissingXYZ;
+  // A second field of a coordinate's name (another field renamed by mistake) would be read or
+  // not depending on its order: refused. Duplicates of fields not read here do not matter.
+  if (countField(in.fields, "x") > 1) return DecodeError::kDuplicateX;
+  if (countField(in.fields, "y") > 1) return DecodeError::kDuplicateY;
+  if (countField(in.fields, "z") > 1) return DecodeError::kDuplicateZ;
 
   const FieldDesc* xyz[3] = {fx, fy, fz};
   std::uint64_t sizes[3];

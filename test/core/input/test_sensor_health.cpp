@@ -110,6 +110,13 @@ TEST(SensorHealth, Validate) {
   SensorHealthParams p;
   p.min_frame_share = 1.5;
   EXPECT_NE(validate(p).find("sensor_health/min_frame_share"), std::string::npos);
+  // 0 would never call the sensor blind: refused, both shares.
+  p = SensorHealthParams();
+  p.min_frame_share = 0.0;
+  EXPECT_NE(validate(p).find("sensor_health/min_frame_share"), std::string::npos);
+  p = SensorHealthParams();
+  p.min_window_share = 0.0;
+  EXPECT_NE(validate(p).find("sensor_health/min_window_share"), std::string::npos);
   p = SensorHealthParams();
   p.window_frames = 0;
   EXPECT_NE(validate(p).find("sensor_health/window_frames"), std::string::npos);

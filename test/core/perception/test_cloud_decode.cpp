@@ -199,6 +199,24 @@ TEST(CloudDecode, MissingZ) {
   EXPECT_EQ(decode(m.view(), out), DecodeError::kMissingXYZ);
 }
 
+// A second field named as a coordinate (intensity renamed x by mistake) would be read or not by
+// the fields' order: refused, the coordinate named. Duplicates of fields not read do not matter.
+TEST(CloudDecode, DuplicateCoordinateNamesRejected) {
+  Message m = makeXYZI(somePoints(3));
+  m.raw.fields[3].name = "x";
+  Cloud out;
+  EXPECT_EQ(decode(m.view(), out), DecodeError::kDuplicateX);
+  EXPECT_NE(std::string(toString(DecodeError::kDuplicateX)).find("two fields named x"), std::string::npos);
+  EXPECT_TRUE(out.empty());
+  m.raw.fields[3].name = "z";
+  EXPECT_EQ(decode(m.view(), out), DecodeError::kDuplicateZ);
+  m.raw.fields[3].name = "y";
+  EXPECT_EQ(decode(m.view(), out), DecodeError::kDuplicateY);
+  m.raw.fields[3].name = "intensity";
+  m.raw.fields.push_back({"intensity", 12, kF32, 1});
+  EXPECT_EQ(decode(m.view(), out), DecodeError::kNone);
+}
+
 TEST(CloudDecode, Uint16XRejected) {
   Message m = makeXYZI(somePoints(3));
   m.raw.fields[0].datatype = kU16;

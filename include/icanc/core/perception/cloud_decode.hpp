@@ -50,6 +50,9 @@ enum class DecodeError {
   kInconsistentLayout,    // field past point_step, row_step < width * point_step, ...
   kTruncatedData,         // data shorter than row_step * height
   kTooManyPoints,         // width * height above the configured maximum
+  kDuplicateX,            // two fields named x (or y, z): which holds the coordinate is unknown
+  kDuplicateY,
+  kDuplicateZ,
 };
 
 const char* toString(DecodeError error);
