@@ -89,6 +89,12 @@ std::vector<Eigen::AlignedBox2d> orientedFootprint(const TruthObject& o) {
   return parts;
 }
 
+// A true object's velocity over ground: its labelled relative velocity plus the frame's ego twist
+// at its centre.
+Eigen::Vector2d overGround(const TruthObject& o, const EvalFrame& frame) {
+  return o.velocity + frame.ego_velocity + frame.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
+}
+
 Outcome outcomeOf(bool truly_dangerous, bool predicted) {
   return truly_dangerous ? (predicted ? Outcome::kTruePositive : Outcome::kFalseNegative)
                          : (predicted ? Outcome::kFalsePositive : Outcome::kTrueNegative);
@@ -119,11 +125,8 @@ ObjectKinematics perfectTrack(const TruthObject& o, const EvalFrame& frame, doub
   k.footprint = orientedFootprint(o);
   if (o.has_velocity) {
     k.velocity << o.velocity, 0.0;
-    if (frame.ego_motion) {
-      const Eigen::Vector2d over_ground =
-          o.velocity + frame.ego_velocity + frame.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
-      k.motion = over_ground.norm() < static_speed_mps ? MotionState::kStatic : MotionState::kMoving;
-    }
+    if (frame.ego_motion)
+      k.motion = overGround(o, frame).norm() < static_speed_mps ? MotionState::kStatic : MotionState::kMoving;
   }
   return k;
 }
@@ -304,16 +307,12 @@ EvalReport evaluate(const std::vector<EvalFrame>& frames, const EvalParams& para
           side_bias.push_back(tmax.y() - d.aabb_max.y());
         }
         if (o.has_velocity && has_ego && d.age >= 2) {
-          const Eigen::Vector2d at_object =
-              f.ego_velocity + f.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
-          const double over_ground = (o.velocity + at_object).norm();
+          const double over_ground = overGround(o, f).norm();
           if (over_ground < params.static_speed_mps) r.motion_standing.add(d.motion);
           else if (over_ground > params.moving_speed_mps) r.motion_moving.add(d.motion);
         }
         if (o.has_velocity && d.age >= params.settled_age && has_ego) {
-          const Eigen::Vector2d frame_velocity =
-              f.ego_velocity + f.ego_yaw_rate * Eigen::Vector2d(-o.center.y(), o.center.x());
-          if ((o.velocity + frame_velocity).norm() < params.static_speed_mps)
+          if (overGround(o, f).norm() < params.static_speed_mps)
             static_speeds.push_back(d.velocity_over_ground.norm());
         }
         if (o.has_velocity) {

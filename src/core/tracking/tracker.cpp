@@ -661,7 +661,6 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
 
   // Update matched tracks, age every track, drop the ones missed too often.
   const double measurement_variance = params_.measurement_std_m * params_.measurement_std_m;
-  const double velocity_variance = params_.initial_velocity_std * params_.initial_velocity_std;
   detection_used_.assign(num_detections, 0);
   for (int i = 0; i < num_tracks; ++i) {
     Track& track = tracks_[i];
@@ -699,6 +698,7 @@ MultiObjectTracker::UpdateResult MultiObjectTracker::update(double stamp_s,
                 tracks_.end());
 
   // Birth: one tentative track per unassigned detection with the points to start one.
+  const double velocity_variance = params_.initial_velocity_std * params_.initial_velocity_std;
   for (int j = 0; j < num_detections; ++j) {
     if (detection_used_[j] || !finiteCenter(detections[j]) ||
         detections[j].num_points < params_.min_birth_points)
