@@ -157,39 +157,7 @@ class TestReport(unittest.TestCase):
         self.assertGreater(img[..., :3].std(), 0.05)
 
 
-def write_xml(path, result, seconds):
-    """JUnit XML as catkin's result files (scripts/test_results counts <testcase>, <skipped>)."""
-    import xml.etree.ElementTree as ET
-    suite = ET.Element("testsuite", name="report", tests=str(result.testsRun), failures=str(len(result.failures)),
-                       errors=str(len(result.errors)), skipped=str(len(result.skipped)), time="%.1f" % seconds)
-    outcome = {}
-    for kind, items in (("failure", result.failures), ("error", result.errors)):
-        for test, text in items:
-            outcome[test.id()] = (kind, text)
-    for test, why in result.skipped:
-        outcome[test.id()] = ("skipped", why)
-    ran = getattr(result, "ran", [])
-    for test_id in ran + [i for i in outcome if i not in ran]:  # a failed setUpClass is a case too
-        case = ET.SubElement(suite, "testcase", classname="TestReport", name=test_id.rsplit(".", 1)[-1])
-        if test_id in outcome:
-            kind, text = outcome[test_id]
-            ET.SubElement(case, kind, message=text.strip().splitlines()[-1][:200] if text.strip() else kind).text = text
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
-class Result(unittest.TextTestResult):
-    def startTest(self, test):
-        super().startTest(test)
-        self.__dict__.setdefault("ran", []).append(test.id())
-
-
 if __name__ == "__main__":
-    import time
-    xml = [a[len("--gtest_output=xml:"):] for a in sys.argv[1:] if a.startswith("--gtest_output=xml:")]
-    start = time.time()
-    outcome = unittest.TextTestRunner(resultclass=Result, verbosity=2, stream=sys.stdout).run(
-        unittest.defaultTestLoader.loadTestsFromTestCase(TestReport))
-    if xml:
-        write_xml(xml[0], outcome, time.time() - start)
-    sys.exit(0 if outcome.wasSuccessful() else 1)
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import junit
+    junit.main(TestReport, "report")
