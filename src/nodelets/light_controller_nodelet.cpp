@@ -239,12 +239,14 @@ class LightControllerNodelet : public nodelet::Nodelet {
     command->reason = static_cast<std::uint8_t>(segmented_->reason());
     command->reason_text = toString(segmented_->reason());
     command->input_stamp = input_stamp_;
-    state_pub_.publish(LightState::ConstPtr(state));
-    lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
-    if (answers_input && !input_receive_time_.isZero())  // the levels' own latency, after the binary lamp's
+    if (answers_input && !input_receive_time_.isZero())
       command->input_latency_ms = static_cast<float>(
           (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
+    // The levels before the binary lamp, so a board that follows both does not see the new ON
+    // with the previous levels (the sketch also lights every segment for ON with all levels 0).
     command_pub_.publish(LampCommand::ConstPtr(command));
+    state_pub_.publish(LightState::ConstPtr(state));
+    lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
     if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
     if (segment_marker_pub_.getNumSubscribers() > 0)
       segment_marker_pub_.publish(segmentMarkers(*command, segmented_->segments(),
@@ -280,7 +282,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     const std::vector<float> levels = segmented_->levels();
     stat.add("lamp segments", levels.size());
     stat.add("lamp segments lit", std::count_if(levels.begin(), levels.end(), [](float l) { return l > 0.0f; }));
-    stat.add("dangerous objects outside every segment", segmented_->unlitObjects());
+    stat.add("dangerous objects outside every segment (all segments on)", segmented_->unlitObjects());
     stat.add("inputs with unlocated danger (all segments on)", unlocated_inputs_);
     live_->addTo(stat);
   }

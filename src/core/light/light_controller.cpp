@@ -100,6 +100,13 @@ bool LightController::onInput(double now, bool any_danger, bool sensor_blind) {
   return true;
 }
 
+bool LightController::restartTimer(double now) {
+  if (!timer_running_ || daylight_) return false;
+  timer_end_s_ = std::max(timer_end_s_, now + params_.tau_s);
+  last_trigger_s_ = now;
+  return true;
+}
+
 LightReason LightController::reason() const {
   if (stale_) return LightReason::kSensorStale;
   if (blind_) return LightReason::kSensorBlind;

@@ -71,6 +71,11 @@ class LightController {
   // reason() changed.
   bool tick(double now);
 
+  // Restarts a running danger timer to tau at `now` whatever is left of it (recheck_below_s does
+  // not apply); false when no timer runs (or in daylight). The segmented lamp uses it to keep a
+  // segment's danger light as long as the binary lamp's (icanc/segmented_light_controller.hpp).
+  bool restartTimer(double now);
+
   // The illumination monitor reported `state` at `now` (ignored unless illumination_enabled).
   // Returns true when on() or reason() changed.
   bool onIllumination(double now, Illumination state);
