@@ -84,6 +84,8 @@ class HeadlightLogic {
 // UInt8MultiArray levels. A segment follows its level only while the HeadlightLogic is in a
 // commanded state (the link is up and the Bool command is fresh) and levels came within the
 // command timeout; otherwise, and for a segment beyond the levels received, it is full ON (255).
+// The Bool ON with every level 0 is no consistent command (the host never sends it; it is the
+// new ON arriving before its levels): every segment is then full ON, never a dark lamp for ON.
 class SegmentLevels {
  public:
   static const uint8_t kMaxSegments = 8;
@@ -105,6 +107,7 @@ class SegmentLevels {
     const bool commanded = logic.reason() == kCommandedOn || logic.reason() == kCommandedOff;
     const bool fresh = has_levels_ && static_cast<uint32_t>(now_ms - last_ms_) < timeout_ms_;
     if (!commanded || !fresh || i >= count_) return 255;
+    if (logic.reason() == kCommandedOn && allZero()) return 255;
     return levels_[i];
   }
 
@@ -112,6 +115,12 @@ class SegmentLevels {
   void onDisconnect() { has_levels_ = false; }
 
  private:
+  bool allZero() const {
+    for (uint8_t i = 0; i < count_; ++i)
+      if (levels_[i] != 0) return false;
+    return true;
+  }
+
   uint32_t timeout_ms_;
   uint8_t levels_[kMaxSegments];
   uint8_t count_;

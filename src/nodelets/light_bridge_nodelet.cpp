@@ -8,14 +8,16 @@
 //   ~port (string, required)        serial device, e.g. /dev/ttyACM0 or a /dev/serial/by-id link
 //   ~baud (int, 57600)              9600 ... 921600 (the sketch uses 57600; 115200 supported)
 //   ~device_cmd_topic, ~device_state_topic, ~heartbeat_hz, ~link_timeout_s, ~negotiation_retry_s,
-//   ~cmd_stale_timeout_s, ~frame_timeout_s, ~max_payload_bytes   see LightBridgeParams
+//   ~cmd_stale_timeout_s, ~lamp_report_timeout_s, ~frame_timeout_s, ~max_payload_bytes
+//                                   see LightBridgeParams
 //   ~reconnect_period_s (1.0)       reopening attempts while the port is missing [s]
 //   ~device_levels_topic ("")       a segmented lamp (issue 23): lamp_command (icanc/LampCommand)
 //       levels, as 0..255, to the device's std_msgs/UInt8MultiArray subscriber of this name
 //   ~link_up (std_msgs/Bool, latched)  true while the device is synced (false on a type mismatch)
 //   lamp_status (icanc/LampState, latched)  stamped: ON / OFF as reported, UNKNOWN_FAILSAFE while
-//       the link is down (the device's command timeout turns it ON), NOT_REPORTED for a device
-//       without a lamp_state publisher; on every report and change, 1 Hz while the link is down
+//       the link is down or the device's reports are overdue (lamp_report_timeout_s; the device's
+//       command timeout turns it ON), NOT_REPORTED for a device without a lamp_state publisher;
+//       on every report and change, 1 Hz while unknown
 // Device errors are throttled per kind (10 s each), so one repeated fault cannot hide another.
 #include <algorithm>
 #include <atomic>
@@ -91,6 +93,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     reader.read("link_timeout_s", params.link_timeout_s);
     reader.read("negotiation_retry_s", params.negotiation_retry_s);
     reader.read("cmd_stale_timeout_s", params.cmd_stale_timeout_s);
+    reader.read("lamp_report_timeout_s", params.lamp_report_timeout_s);
     reader.read("frame_timeout_s", params.frame_timeout_s);
     reader.read("max_payload_bytes", params.max_payload_bytes);
     const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
@@ -279,7 +282,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     const LampStatus status = session_->lampStatus();
     const bool commanded = session_->commandInForce(now);
     if (reported || status != status_published_ || commanded != commanded_published_ ||
-        (!up && now - status_published_s_ >= 1.0))
+        (status == LampStatus::kUnknownFailSafe && now - status_published_s_ >= 1.0))
       publishStatus(now);
     // Wire faults: one line per second at most, naming what happened since the last line.
     const rosserial::ParserCounters& c = session_->parserCounters();
@@ -352,7 +355,9 @@ class LightBridgeNodelet : public nodelet::Nodelet {
         stat.summary(DiagnosticStatus::ERROR, "device command topic has the wrong type: commands refused");
         break;
       case LinkState::kSynced:
-        if (!session_->hasLampReport() && !session_->params().device_state_topic.empty())
+        if (session_->lampReportOverdue())
+          stat.summary(DiagnosticStatus::ERROR, "device silent: lamp state unknown (it fails safe ON)");
+        else if (!session_->hasLampReport() && !session_->params().device_state_topic.empty())
           stat.summary(DiagnosticStatus::WARN, "synced, but the device reports no lamp state");
         else if (stale)
           stat.summary(DiagnosticStatus::WARN, "synced; no lamp_cmd: commanding the lamp ON (fail-safe)");
@@ -386,6 +391,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     stat.add("commands sent", s.commands_sent);
     stat.add("fail-safe ON commands (lamp_cmd stale)", s.stale_commands);
     stat.add("lamp reports", s.lamp_reports);
+    stat.add("lamp reports overdue (status unknown)", s.overdue_reports);
     stat.add("time replies", s.time_replies);
     stat.add("device logs", s.device_logs);
     stat.add("tx bytes", tx_bytes_);

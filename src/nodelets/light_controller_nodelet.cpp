@@ -49,9 +49,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     std::string why = validate(params);
     if (why.empty()) why = validate(lamp);
     if (why.empty()) why = rate_problem;
-    if (why.empty() && !(publish_rate_hz_ > 0.0)) why = "publish_rate_hz must be > 0";
-    if (why.empty() && !(tick_rate_hz_ >= publish_rate_hz_))
-      why = "tick_rate_hz must be >= publish_rate_hz";
+    if (why.empty()) why = validateRates(publish_rate_hz_, tick_rate_hz_);
     reader.read("marker_lifetime_s", marker_style_.lifetime_s);
     acceptReconfigureKeys<LightControllerConfig>(reader);
     if (!checkParams(getName(), reader, why)) {
@@ -74,6 +72,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
     timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
+    // A tick slower than the watchdog's own rate must not delay the fail-safe lamp: the watchdog
+    // then gets a timer of its own (icanc::kWatchdogRateHz).
+    if (tick_rate_hz_ < kWatchdogRateHz)
+      watchdog_timer_ = nh.createTimer(ros::Duration(1.0 / kWatchdogRateHz), &LightControllerNodelet::onWatchdog, this);
     if (params.illumination_enabled) {  // camera illumination gate (IlluminationMonitor)
       illumination_sub_ = nh.subscribe("illumination", 5, &LightControllerNodelet::onIllumination, this);
       NODELET_INFO("LightController: illumination gate on %s (no danger lamp in daylight)",
@@ -105,7 +107,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
     command_pub_ = nh.advertise<LampCommand>("lamp_command", 10);
-    const double rate_hz = publish_rate_hz_ > 0.0 && publish_rate_hz_ < 1e3 ? publish_rate_hz_ : 10.0;
+    const double rate_hz =
+        publish_rate_hz_ >= kMinPublishRateHz && publish_rate_hz_ <= kMaxRateHz ? publish_rate_hz_ : 10.0;
     timer_ = nh.createTimer(ros::Duration(1.0 / rate_hz), [this](const ros::TimerEvent&) {
       auto state = boost::make_shared<LightState>();
       state->header.stamp = ros::Time::now();
@@ -164,7 +167,13 @@ class LightControllerNodelet : public nodelet::Nodelet {
     if (controller_->onIllumination(now.toSec(), state) || segments_changed) publish(now, false);
   }
 
-  void onTick(const ros::TimerEvent&) {
+  void onTick(const ros::TimerEvent&) { advance(true); }
+
+  // The watchdog's own timer (only while tick_rate_hz is slower): a change is published at once,
+  // the steady publication stays the tick's.
+  void onWatchdog(const ros::TimerEvent&) { advance(false); }
+
+  void advance(bool steady_publication) {
     std::lock_guard<std::mutex> lock(mutex_);
     applyTunedParams();
     const ros::Time now = ros::Time::now();
@@ -175,9 +184,9 @@ class LightControllerNodelet : public nodelet::Nodelet {
       NODELET_WARN("no input on %s for %.2f s: lamp ON (fail-safe)", sub_.getTopic().c_str(),
                    controller_->params().stale_timeout_s);
     }
-    if (changed || segments_changed || (now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ ||
-        now < last_publish_)
-      publish(now, false);
+    const bool due = steady_publication &&
+                     ((now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_);
+    if (changed || segments_changed || due) publish(now, false);
   }
 
   // With mutex_ held: a dynamic_reconfigure change, from this input or tick on.
@@ -230,12 +239,14 @@ class LightControllerNodelet : public nodelet::Nodelet {
     command->reason = static_cast<std::uint8_t>(segmented_->reason());
     command->reason_text = toString(segmented_->reason());
     command->input_stamp = input_stamp_;
-    state_pub_.publish(LightState::ConstPtr(state));
-    lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
-    if (answers_input && !input_receive_time_.isZero())  // the levels' own latency, after the binary lamp's
+    if (answers_input && !input_receive_time_.isZero())
       command->input_latency_ms = static_cast<float>(
           (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
+    // The levels before the binary lamp, so a board that follows both does not see the new ON
+    // with the previous levels (the sketch also lights every segment for ON with all levels 0).
     command_pub_.publish(LampCommand::ConstPtr(command));
+    state_pub_.publish(LightState::ConstPtr(state));
+    lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
     if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
     if (segment_marker_pub_.getNumSubscribers() > 0)
       segment_marker_pub_.publish(segmentMarkers(*command, segmented_->segments(),
@@ -271,7 +282,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     const std::vector<float> levels = segmented_->levels();
     stat.add("lamp segments", levels.size());
     stat.add("lamp segments lit", std::count_if(levels.begin(), levels.end(), [](float l) { return l > 0.0f; }));
-    stat.add("dangerous objects outside every segment", segmented_->unlitObjects());
+    stat.add("dangerous objects outside every segment (all segments on)", segmented_->unlitObjects());
     stat.add("inputs with unlocated danger (all segments on)", unlocated_inputs_);
     live_->addTo(stat);
   }
@@ -292,6 +303,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
   ros::Subscriber sub_;
   ros::Subscriber illumination_sub_;
   ros::Timer timer_;
+  ros::Timer watchdog_timer_;  // only while tick_rate_hz < kWatchdogRateHz
   double publish_rate_hz_ = 10.0;
   double tick_rate_hz_ = 50.0;
 

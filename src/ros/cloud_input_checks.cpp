@@ -1,5 +1,7 @@
 #include "icanc/ros/cloud_input_checks.hpp"
 
+#include <limits>
+
 #include <ros/console.h>
 
 namespace icanc {
@@ -17,9 +19,21 @@ std::string CloudInputChecks::load(ParamReader& reader) {
 
 bool CloudInputChecks::stampValid(const ros::Time& stamp, InputMonitor& input) {
   const double previous = stamps_.previousStamp();
-  const StampVerdict verdict = stamps_.check(stamp.toSec());
+  // The receipt clock for the stamps' rate: ROS time on a vehicle; on sim time (a replay) the
+  // clock is the bag's own, so the rate is not judged there.
+  const double receipt = ros::Time::isSimTime() ? std::numeric_limits<double>::quiet_NaN()
+                                                : ros::Time::now().toSec();
+  const StampVerdict verdict = stamps_.check(stamp.toSec(), receipt);
   if (verdict == StampVerdict::kOk) return true;
   input.invalid();
+  if (verdict == StampVerdict::kRate) {
+    ROS_ERROR_THROTTLE_NAMED(1.0, log_name_, "[%s] dropping cloud stamped %.6f: its stamps advance "
+                             "%.2f times the receipt clock over %.1f s (allowed %.2f to %.2f): the "
+                             "sensor's clock runs fast or slow, speeds would be wrong; lamp on",
+                             log_name_.c_str(), stamp.toSec(), stamps_.rateRatio(), kStampRateWindowS,
+                             1.0 / kMaxStampRate, kMaxStampRate);
+    return false;
+  }
   // Throttled per kind: a burst of one kind does not hide the first of another.
   const ros::WallTime now = ros::WallTime::now();
   ros::WallTime& last = logged_[static_cast<int>(verdict)];
@@ -59,6 +73,7 @@ void CloudInputChecks::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat) 
     stat.add(std::string("stamps rejected: ") + toString(verdict), stamps_.count(verdict));
   }
   stat.add("repeated stamps", stamps_.count(StampVerdict::kRepeated));
+  stat.add("stamp rate over receipt clock", stamps_.rateRatio());
   stat.add("sensor blind", health_.blind());
   stat.add("sensor blind frames", health_.blindFrames());
   stat.add("sensor blind episodes", health_.blindEpisodes());

@@ -3,7 +3,8 @@
 // - clouds whose stamp is frozen, zero, or alternates between two clocks: each frame is rejected
 //   (counted, WARN in the detector's diagnostics), so the LightController's watchdog lights the
 //   lamp (REASON_SENSOR_STALE) instead of the tracker seeing dt = 0 or a reset every frame (speed
-//   0, nothing ever dangerous, lamp OFF: what main did);
+//   0, nothing ever dangerous, lamp OFF: what main did); so are clouds whose stamps advance at 5
+//   or 0.4 times the receipt clock (a sensor clock running fast or slow), once a second shows it;
 // - clouds with no valid return (all NaN, all (0, 0, 0), all out of range: a covered LiDAR): the
 //   arrays say sensor_blind, the lamp is ON with REASON_SENSOR_BLIND, both nodelets' diagnostics
 //   say ERROR; the lamp goes OFF again once the returns come back.
@@ -124,22 +125,28 @@ TEST_F(DarkPaths, StampsThatDoNotAdvanceLightTheLamp) {
     const char* what;
     const char* counter;
     std::function<ros::Time(int)> stamp_of;  // frame i's stamp
+    int frames;                              // at 10 Hz
   };
+  const char* const rate = "stamps rejected: stamps advance at a rate off the receipt clock (sensor clock fast or slow)";
   const ros::Time frozen = stamp + ros::Duration(0.1);
   const std::vector<Case> cases = {
       {"frozen stamp", "stamps rejected: stamp repeats the previous frame's",
-       [&](int) { return frozen; }},
-      {"zero stamp", "stamps rejected: zero stamp", [&](int) { return ros::Time(); }},
+       [&](int) { return frozen; }, 20},
+      {"zero stamp", "stamps rejected: zero stamp", [&](int) { return ros::Time(); }, 20},
       // Two clocks 100 s apart, alternating: every frame goes backwards or jumps.
       {"alternating clocks", "stamps rejected: stamp went backwards",
-       [&](int i) { return stamp + ros::Duration(0.1 * (i + 1) - (i % 2 ? 100.0 : 0.0)); }},
+       [&](int i) { return stamp + ros::Duration(0.1 * (i + 1) - (i % 2 ? 100.0 : 0.0)); }, 20},
+      // A sensor clock running fast (stamps 0.5 s apart every 0.1 s: speeds 5 times too low) or
+      // slow (0.04 s apart): rejected once a second of receipts shows it, so 3 s of it.
+      {"fast clock", rate, [&](int i) { return stamp + ros::Duration(0.5 * (i + 1)); }, 30},
+      {"slow clock", rate, [&](int i) { return stamp + ros::Duration(0.04 * (i + 1)); }, 30},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
     clearLevels();
     const long before = std::max(0L, counter(c.counter));
     ros::Time last;
-    stream(20, [&](int i) { good(last = c.stamp_of(i)); });
+    stream(c.frames, [&](int i) { good(last = c.stamp_of(i)); });
     // Not a clear road: the lamp has been ON (watchdog) for the last second of the 2 s.
     EXPECT_TRUE(lampOnLately(LightState::REASON_SENSOR_STALE, 1.0));
     EXPECT_TRUE(waitFor([&] { return counter(c.counter) >= before + 10; }, 3.0))
@@ -147,7 +154,7 @@ TEST_F(DarkPaths, StampsThatDoNotAdvanceLightTheLamp) {
     EXPECT_TRUE(waitFor([&] { return levelSeen("obstacle detector", Diag::WARN, "stamps rejected"); }, 3.0))
         << "no WARN 'cloud stamps rejected' in the detector's diagnostics";
     // Good stamps again (past every stamp sent): OFF again within a few frames.
-    stamp += ros::Duration(5.0);
+    stamp = std::max(stamp + ros::Duration(5.0), last + ros::Duration(0.1));
     settleOff(stamp);
   }
 }

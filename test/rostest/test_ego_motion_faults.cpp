@@ -39,9 +39,19 @@ class EgoMotionFaults : public ::testing::Test {
       t.transform.rotation.w = std::cos(0.5 * yaw);
       tf_.sendTransform(t);
     }
+    // Paced by the stamps, as a sensor: the detector refuses stamps that run ahead of (or behind)
+    // their receipt, a sensor clock running fast or slow.
+    ros::WallTime due = pace_wall_ + ros::WallDuration((stamp - pace_stamp_).toSec());
+    if (pace_stamp_.isZero() || ros::WallTime::now() > due + ros::WallDuration(0.1)) {
+      pace_stamp_ = stamp;  // first frame, or late after a wait: paced from here
+      pace_wall_ = due = ros::WallTime::now();
+    }
+    if (ros::WallTime::now() < due) (due - ros::WallTime::now()).sleep();
     g_.publishFrame(1.0, stamp);
     return g_.recorder().waitForStamp(g_.recorder().detections, stamp);
   }
+  ros::Time pace_stamp_;
+  ros::WallTime pace_wall_;
 
   long counter(const std::string& key) {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -63,6 +63,7 @@ struct RosSide {
     status_sub = nh.subscribe<LampState>("/icanc/lamp_status", 100, [this](const LampState::ConstPtr& m) {
       std::lock_guard<std::mutex> l(mutex);
       statuses.push_back(*m);
+      status_times.push_back(steadySeconds());
     });
     diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100,
         [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
@@ -94,6 +95,13 @@ struct RosSide {
     std::lock_guard<std::mutex> l(mutex);
     for (const auto& c : link_changes)
       if (!c.first && c.second >= t0) return c.second;
+    return -1.0;
+  }
+  // When a lamp_status with `state` first arrived after t0 (-1: not yet).
+  double statusAfter(double t0, std::uint8_t state) {
+    std::lock_guard<std::mutex> l(mutex);
+    for (std::size_t i = 0; i < statuses.size(); ++i)
+      if (status_times[i] >= t0 && statuses[i].state == state) return status_times[i];
     return -1.0;
   }
   // The last lamp_status (state 255 when none yet).
@@ -150,6 +158,7 @@ struct RosSide {
   std::size_t diag_count = 0;
   std::vector<rosgraph_msgs::Log> logs;
   std::vector<LampState> statuses;
+  std::vector<double> status_times;  // steady time each status arrived
   // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
   // which then never writes into members already freed (ASan caught it at fixture teardown).
   ros::Subscriber link_sub, state_sub, status_sub, diag_sub, rosout_sub;
@@ -401,6 +410,29 @@ TEST_F(LightBridge, ResetMidFrameIsDetectedAndRenegotiated) {
   EXPECT_LT(detect_ms, timeout_ms + 1500.0);
   EXPECT_GE(ros().diagValue("faults: truncated frames"), truncated + 1);
   expectHealthy("reset mid-frame");
+}
+
+// A board that stops answering (reset: silent and unconfigured) has failed safe ON long before
+// link_timeout_s drops the link: lamp_status says UNKNOWN_FAILSAFE within lamp_report_timeout_s
+// of its last report (plus one report period and scheduling), while the link is still up.
+TEST_F(LightBridge, SilentBoardIsUnknownBeforeTheLinkTimesOut) {
+  ASSERT_TRUE(boardFollows(false));
+  ASSERT_TRUE(waitFor([&] { return ros().lastStatus().state == LampState::OFF; }, 2.0));
+  const double t0 = steadySeconds();
+  board().reset(false);
+  ASSERT_TRUE(waitFor([&] { return ros().statusAfter(t0, LampState::UNKNOWN_FAILSAFE) > 0; }, 3.0))
+      << "lamp_status kept the silent board's last state";
+  const double unknown_ms = (ros().statusAfter(t0, LampState::UNKNOWN_FAILSAFE) - t0) * 1000.0;
+  const double limit_ms = (LightBridgeParams().lamp_report_timeout_s + 0.1 + 0.2) * 1000.0;
+  std::printf("[ MEASURE ] baud %d: silent board reported unknown after %.1f ms\n", g_baud, unknown_ms);
+  EXPECT_LT(unknown_ms, limit_ms);
+  EXPECT_LT(unknown_ms, LightBridgeParams().link_timeout_s * 1000.0 - 1000.0);
+  EXPECT_LT(ros().linkDownAfter(t0), 0.0) << "unknown by the report timeout, not by a link loss";
+  EXPECT_TRUE(board().lampOn());
+  EXPECT_TRUE(waitFor([&] { return ros().diagValue("lamp reports overdue (status unknown)") >= 1.0; }, 3.0));
+  ASSERT_TRUE(waitFor([&] { return ros().linkDownAfter(t0) > 0; }, 10.0));
+  ASSERT_TRUE(synced(5.0));
+  expectHealthy("a silent board");
 }
 
 TEST_F(LightBridge, WrongCommandTypeIsRefused) {

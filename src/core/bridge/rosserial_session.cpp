@@ -20,6 +20,8 @@ std::string validate(const LightBridgeParams& p) {
     why << "negotiation_retry_s must be > 0 (got " << p.negotiation_retry_s << ")";
   else if (!(p.cmd_stale_timeout_s > 0.0))
     why << "cmd_stale_timeout_s must be > 0 (got " << p.cmd_stale_timeout_s << ")";
+  else if (!(p.lamp_report_timeout_s > 0.0 && p.lamp_report_timeout_s <= p.link_timeout_s))
+    why << "lamp_report_timeout_s must be in (0, link_timeout_s] (got " << p.lamp_report_timeout_s << ")";
   else if (!(p.frame_timeout_s > 0.0 && p.frame_timeout_s < p.link_timeout_s))
     why << "frame_timeout_s must be in (0, link_timeout_s) (got " << p.frame_timeout_s << ")";
   else if (!(p.max_payload_bytes >= 64 && p.max_payload_bytes <= 65535))
@@ -45,7 +47,7 @@ const char* toString(LampStatus status) {
   switch (status) {
     case LampStatus::kOff: return "OFF";
     case LampStatus::kOn: return "ON";
-    case LampStatus::kUnknownFailSafe: return "unknown (link down: device fails safe ON)";
+    case LampStatus::kUnknownFailSafe: return "unknown (link down or device silent: it fails safe ON)";
     case LampStatus::kNotReported: return "not reported by the device";
   }
   return "unknown";
@@ -105,10 +107,11 @@ void LightBridgeSession::loseLink(const std::string& why, LinkState next, Sessio
   }
   state_ = next;
   has_lamp_report_ = false;  // what the device said on this link is no longer known
+  report_overdue_ = false;
 }
 
 LampStatus LightBridgeSession::lampStatus() const {
-  if (state_ != LinkState::kSynced) return LampStatus::kUnknownFailSafe;
+  if (state_ != LinkState::kSynced || report_overdue_) return LampStatus::kUnknownFailSafe;
   if (state_id_ == 0 || !has_lamp_report_) return LampStatus::kNotReported;
   return lamp_report_ ? LampStatus::kOn : LampStatus::kOff;
 }
@@ -122,6 +125,7 @@ void LightBridgeSession::onOpened(double now, SessionOutput& out) {
   parser_.reset();
   state_ = LinkState::kNegotiating;
   has_lamp_report_ = false;
+  report_overdue_ = false;
   last_rx_s_ = now;
   requestTopics(now, out);
 }
@@ -216,9 +220,19 @@ void LightBridgeSession::tick(double now, const rosserial::Stamp& ros_now, Sessi
         << params_.link_timeout_s << "): device lost, requesting its topics again";
       loseLink(s.str(), LinkState::kNegotiating, out);
       requestTopics(now, out);
-    } else if (now - last_heartbeat_s_ >= 1.0 / params_.heartbeat_hz - 1e-9) {
-      sendCommand(now, out);
+      return;
     }
+    const bool overdue = has_lamp_report_ && !(now - last_lamp_report_s_ < params_.lamp_report_timeout_s);
+    if (overdue && !report_overdue_) {
+      ++counters_.overdue_reports;
+      std::ostringstream s;
+      s << "no lamp state from the device for " << (now - last_lamp_report_s_)
+        << " s (lamp_report_timeout_s " << params_.lamp_report_timeout_s
+        << "): lamp status unknown, the device fails safe ON";
+      event(out, SessionEvent::kWarning, s.str());
+    }
+    report_overdue_ = overdue;
+    if (now - last_heartbeat_s_ >= 1.0 / params_.heartbeat_hz - 1e-9) sendCommand(now, out);
     return;
   }
   if (now - last_request_s_ >= params_.negotiation_retry_s) {
@@ -298,6 +312,7 @@ void LightBridgeSession::handleFrame(const Frame& f, double now, const rosserial
     }
     ++counters_.lamp_reports;
     has_lamp_report_ = true;
+    report_overdue_ = false;
     lamp_report_ = on;
     last_lamp_report_s_ = now;
     SessionEvent e;

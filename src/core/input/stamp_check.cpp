@@ -19,11 +19,35 @@ const char* toString(StampVerdict verdict) {
     case StampVerdict::kRepeated: return "stamp repeats the previous frame's";
     case StampVerdict::kBackwards: return "stamp went backwards";
     case StampVerdict::kJump: return "stamp jumped forward beyond stamp_check/max_jump_s";
+    case StampVerdict::kRate: return "stamps advance at a rate off the receipt clock (sensor clock fast or slow)";
   }
   return "unknown";
 }
 
-StampVerdict StampCheck::check(double stamp_s) {
+void StampRate::reset() {
+  window_.clear();
+  ratio_ = std::numeric_limits<double>::quiet_NaN();
+  faulty_ = false;
+}
+
+bool StampRate::update(double stamp_s, double receipt_s) {
+  if (!window_.empty() && (stamp_s < window_.back().stamp_s || receipt_s < window_.back().receipt_s ||
+                           receipt_s - window_.back().receipt_s > kStampRateMaxGapS))
+    reset();
+  window_.push_back({stamp_s, receipt_s});
+  // Keep the newest sample at least a window older than this one as the window's start; a bound
+  // on the samples keeps memory fixed for any frame rate.
+  while (window_.size() > 2 && (receipt_s - window_[1].receipt_s >= kStampRateWindowS || window_.size() > 4096))
+    window_.pop_front();
+  const double span = receipt_s - window_.front().receipt_s;
+  if (span >= kStampRateWindowS) {
+    ratio_ = (stamp_s - window_.front().stamp_s) / span;
+    faulty_ = !(ratio_ <= kMaxStampRate && ratio_ >= 1.0 / kMaxStampRate);
+  }
+  return !faulty_;
+}
+
+StampVerdict StampCheck::check(double stamp_s, double receipt_s) {
   StampVerdict verdict = StampVerdict::kOk;
   if (!(stamp_s > 0.0) || !std::isfinite(stamp_s)) {
     verdict = StampVerdict::kZero;
@@ -36,6 +60,8 @@ StampVerdict StampCheck::check(double stamp_s) {
     else if (dt > params_.max_jump_s + 1e-9)
       verdict = StampVerdict::kJump;
   }
+  if (verdict == StampVerdict::kOk && std::isfinite(receipt_s) && !rate_.update(stamp_s, receipt_s))
+    verdict = StampVerdict::kRate;
   // A zero stamp is no timeline: the next frame is compared with the last real stamp.
   if (verdict != StampVerdict::kZero) {
     has_previous_ = true;

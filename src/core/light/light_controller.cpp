@@ -21,6 +21,17 @@ std::string validate(const LightControllerParams& params) {
   return why.str();
 }
 
+std::string validateRates(double publish_rate_hz, double tick_rate_hz) {
+  std::ostringstream why;
+  if (!(publish_rate_hz >= kMinPublishRateHz && publish_rate_hz <= kMaxRateHz))
+    why << "light.publish_rate_hz must be in [" << kMinPublishRateHz << ", " << kMaxRateHz
+        << "] Hz (got " << publish_rate_hz << ")";
+  else if (!(tick_rate_hz >= publish_rate_hz && tick_rate_hz <= kMaxRateHz))
+    why << "light.tick_rate_hz must be in [publish_rate_hz = " << publish_rate_hz << ", "
+        << kMaxRateHz << "] Hz (got " << tick_rate_hz << ")";
+  return why.str();
+}
+
 const char* toString(LightReason reason) {
   switch (reason) {
     case LightReason::kOff: return "off";
@@ -85,6 +96,13 @@ bool LightController::onInput(double now, bool any_danger, bool sensor_blind) {
   if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + 1e-9) return false;  // ignored
   timer_running_ = true;
   timer_end_s_ = now + params_.tau_s;
+  last_trigger_s_ = now;
+  return true;
+}
+
+bool LightController::restartTimer(double now) {
+  if (!timer_running_ || daylight_) return false;
+  timer_end_s_ = std::max(timer_end_s_, now + params_.tau_s);
   last_trigger_s_ = now;
   return true;
 }

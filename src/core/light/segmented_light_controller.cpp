@@ -8,10 +8,11 @@ namespace icanc {
 SegmentedLightController::SegmentedLightController(const LightControllerParams& params,
                                                    const SegmentLampParams& lamp)
     : lamp_(lamp), segments_(effectiveSegments(lamp)), timers_(segments_.size(), LightController(params)),
-      level_(segments_.size(), 1.0) {}
+      binary_(params), level_(segments_.size(), 1.0) {}
 
 void SegmentedLightController::setParams(const LightControllerParams& params) {
   for (LightController& t : timers_) t.setParams(params);
+  binary_.setParams(params);
 }
 
 void SegmentedLightController::onInput(double now, const std::vector<Eigen::AlignedBox2d>& dangerous,
@@ -29,25 +30,35 @@ void SegmentedLightController::onInput(double now, const std::vector<Eigen::Alig
       hit[i] = true;
       needs[i] = std::max(needs[i], requiredLevel(lamp_, segments_[i], distance));
     }
-    unlit_objects_ += !lit;
+    if (lit) continue;
+    ++unlit_objects_;  // outside every segment: the whole lamp, as the binary lamp
+    std::fill(hit.begin(), hit.end(), true);
+    std::fill(needs.begin(), needs.end(), 1.0);
   }
+  const bool binary_restarted = binary_.onInput(now, !dangerous.empty() || unlocated_danger, sensor_blind);
   for (std::size_t i = 0; i < segments_.size(); ++i) {
-    if (timers_[i].onInput(now, hit[i], sensor_blind))
+    if (timers_[i].onInput(now, hit[i], sensor_blind)) {
       level_[i] = needs[i];  // (re)started: the level these objects need
-    else if (hit[i] && timers_[i].on())
-      level_[i] = std::max(level_[i], needs[i]);  // ignored by the timer: a farther object still raises it
+    } else if (hit[i] && timers_[i].on()) {
+      // Ignored by the segment's timer: a farther object still raises the level, and the binary
+      // lamp's restart carries the segment's light as far as the binary lamp's.
+      if (binary_restarted) timers_[i].restartTimer(now);
+      level_[i] = std::max(level_[i], needs[i]);
+    }
   }
 }
 
 bool SegmentedLightController::tick(double now) {
   bool changed = false;
   for (LightController& t : timers_) changed = t.tick(now) || changed;
+  binary_.tick(now);
   return changed;
 }
 
 bool SegmentedLightController::onIllumination(double now, Illumination state) {
   bool changed = false;
   for (LightController& t : timers_) changed = t.onIllumination(now, state) || changed;
+  binary_.onIllumination(now, state);
   return changed;
 }
 

@@ -451,6 +451,47 @@ TEST(LightBridgeSession, LampStatusIsReportedOnlyWhileSynced) {
   EXPECT_FALSE(b.host.hasLampReport()) << "a report of a closed link is forgotten";
 }
 
+// A device that stops answering is ON by its own command timeout long before link_timeout_s drops
+// the link: the lamp status says unknown (fail-safe) within lamp_report_timeout_s of its last
+// report, counted and warned about once, and follows the reports again when they come back.
+TEST(LightBridgeSession, SilentDeviceIsUnknownWithinTheReportTimeout) {
+  Bench b;
+  b.open();
+  b.run(0.05);
+  b.command(false);
+  b.run(0.3);
+  ASSERT_EQ(b.host.lampStatus(), LampStatus::kOff);
+  const double timeout = b.host.params().lamp_report_timeout_s;
+  EXPECT_LE(timeout, 0.5) << "no later than the sketch's command timeout";
+  b.cable = false;
+  const double cut = b.now;
+  const double last_report = b.host.lastLampReportTime();
+  while (b.host.lampStatus() == LampStatus::kOff && b.now < cut + 10.0) {
+    b.command(false);
+    b.step();
+  }
+  EXPECT_EQ(b.host.lampStatus(), LampStatus::kUnknownFailSafe);
+  EXPECT_TRUE(b.host.synced()) << "the link itself is only dropped after link_timeout_s";
+  EXPECT_NEAR(b.now - last_report, timeout, 0.015) << "unknown " << b.now - cut << " s after the cut";
+  EXPECT_EQ(b.host.counters().overdue_reports, 1u);
+  int warnings = 0;
+  for (const auto& e : b.events) warnings += e.kind == SessionEvent::kWarning && e.text.find("lamp_report_timeout_s") != std::string::npos;
+  EXPECT_EQ(warnings, 1);
+  b.run(1.0);
+  EXPECT_TRUE(b.lamp_on) << "the device, cut off, failed safe ON";
+  EXPECT_EQ(b.host.lampStatus(), LampStatus::kUnknownFailSafe);
+  EXPECT_EQ(b.host.counters().overdue_reports, 1u);
+  b.cable = true;  // back before link_timeout_s: its reports count again
+  b.run(0.3);
+  EXPECT_TRUE(b.host.synced());
+  EXPECT_NE(b.host.lampStatus(), LampStatus::kUnknownFailSafe);
+  LightBridgeParams bad;
+  bad.lamp_report_timeout_s = 0.0;
+  EXPECT_NE(validate(bad).find("lamp_report_timeout_s"), std::string::npos);
+  bad.lamp_report_timeout_s = bad.link_timeout_s + 1.0;
+  EXPECT_NE(validate(bad).find("lamp_report_timeout_s"), std::string::npos);
+}
+
 TEST(LightBridgeSession, CommandTypeChangingWhileSyncedDropsTheLink) {
   Bench b;
   b.open();

@@ -100,5 +100,25 @@ TEST(SegmentLevels, FullOnUnlessCommandedWithFreshLevels) {
   EXPECT_EQ(seg.duty(8, l, 960), 255);  // at most kMaxSegments pins
 }
 
+// The host's ON can reach the board before its levels: ON with every level still 0 (the levels of
+// the OFF before) lights every segment instead of a dark lamp; ON with some level lit follows the
+// levels, and OFF with every level 0 is dark.
+TEST(SegmentLevels, OnWithEveryLevelZeroLightsEverySegment) {
+  HeadlightLogic l(500);
+  SegmentLevels seg(500);
+  const uint8_t off[3] = {0, 0, 0};
+  const uint8_t one[3] = {0, 200, 0};
+  seg.onLevels(off, 3, 0);
+  l.onCommand(false, 0);
+  l.update(true, 0);
+  for (uint8_t i = 0; i < 3; ++i) EXPECT_EQ(seg.duty(i, l, 0), 0) << int(i);
+  l.onCommand(true, 10);  // the ON, its levels not yet here
+  l.update(true, 10);
+  for (uint8_t i = 0; i < 3; ++i) EXPECT_EQ(seg.duty(i, l, 10), 255) << int(i);
+  seg.onLevels(one, 3, 15);  // the levels follow
+  EXPECT_EQ(seg.duty(0, l, 15), 0);
+  EXPECT_EQ(seg.duty(1, l, 15), 200);
+}
+
 }  // namespace
 }  // namespace icanc_fw

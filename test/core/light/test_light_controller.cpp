@@ -128,6 +128,20 @@ TEST(LightController, WatchdogTimeoutZeroNegativeOrHugeIsRefused) {
   EXPECT_EQ(validate(p), "");
 }
 
+// Issue 49: a slow publish or tick rate never silences the lamp side. Rates below the floor, or a
+// tick slower than the publication, are refused with the key named; the watchdog's own timer
+// runs at least as often as a tick of the usual profiles.
+TEST(LightController, PublishAndTickRatesBelowTheFloorAreRefused) {
+  EXPECT_EQ(validateRates(10.0, 50.0), "");
+  EXPECT_EQ(validateRates(kMinPublishRateHz, kMinPublishRateHz), "");
+  for (double bad : {0.01, 0.0, -1.0, 1.99, 1e4, std::nan("")})
+    EXPECT_NE(validateRates(bad, 50.0).find("publish_rate_hz"), std::string::npos) << bad;
+  for (double bad : {0.01, 5.0, 1e4, std::nan("")})
+    EXPECT_NE(validateRates(10.0, bad).find("tick_rate_hz"), std::string::npos) << bad;
+  // The watchdog's own timer fires well within the shortest useful stale_timeout_s.
+  EXPECT_LE(1.0 / kWatchdogRateHz, LightControllerParams().stale_timeout_s / 4.0);
+}
+
 TEST(LightController, OnlyTheExplicitSwitchDisablesTheWatchdog) {
   LightControllerParams p;
   p.stale_timeout_s = 0.3;

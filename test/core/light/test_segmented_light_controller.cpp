@@ -1,6 +1,7 @@
 // Pins the per-segment controller: the one-segment lamp replays icanc::LightController exactly,
 // segments light only where the danger is, each with the paper's timer, low/high beam by distance,
 // and every fail-safe lights every segment.
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -96,8 +97,97 @@ TEST(SegmentedLightController, LightsOnlyTheSegmentsTheBoxCovers) {
   c.onInput(0.2, {at(20.0, -5.0)}, false);  // -14 deg (right): segment 3 = [-15, 0]
   c.onInput(0.3, {at(10.0, 10.0)}, false);  // +45 deg (left): segment 7 = [45, 60], 6 by the box
   EXPECT_EQ(lit(c), (std::vector<int>{2, 3, 4, 6, 7}));  // -14 deg +- box +- 1 deg reaches 2
-  c.onInput(0.4, {at(-10.0, 0.0)}, false);  // behind: no segment
+  EXPECT_EQ(c.unlitObjects(), 0u);
+  c.onInput(0.4, {at(-10.0, 0.0)}, false);  // behind: no segment covers it, so every one lights
   EXPECT_EQ(c.unlitObjects(), 1u);
+  EXPECT_EQ(lit(c).size(), 8u);
+}
+
+// A danger beside the lamp's field (a pedestrian at 75 deg left of an 8 x 15 deg lamp over
+// +-60 deg) lights every segment at high beam, for tau, as the binary lamp lights its beam.
+TEST(SegmentedLightController, DangerOutsideEverySegmentLightsTheWholeLamp) {
+  SegmentedLightController c(paperParams(), eightSegments());
+  c.onInput(0.0, {}, false);
+  const double a = 75.0 * M_PI / 180.0;
+  c.onInput(0.1, {at(0.5 + 6.0 * std::cos(a), 6.0 * std::sin(a))}, false);
+  EXPECT_EQ(c.unlitObjects(), 1u);
+  EXPECT_EQ(c.levels(), std::vector<float>(8, 1.0f));
+  EXPECT_EQ(c.reason(), LightReason::kDanger);
+  EXPECT_TRUE(c.binaryLamp().on());
+  c.tick(3.09);
+  EXPECT_EQ(c.levels(), std::vector<float>(8, 1.0f));
+  c.tick(3.1);
+  EXPECT_TRUE(lit(c).empty());
+  EXPECT_FALSE(c.binaryLamp().on());
+}
+
+// The binary lamp restarts its timer on a segment's danger that the segment's own timer ignores
+// (more than recheck_below_s left there): the segment restarts with it, so the binary lamp never
+// outlasts every segment.
+TEST(SegmentedLightController, ASegmentLastsAsLongAsTheBinaryLamp) {
+  SegmentedLightController c(paperParams(), eightSegments());
+  LightController binary(paperParams());
+  auto input = [&](double t, const std::vector<Eigen::AlignedBox2d>& boxes) {
+    binary.onInput(t, !boxes.empty(), false);
+    c.onInput(t, boxes, false);
+  };
+  input(0.0, {at(20.0, -3.0)});  // segment 3; binary until 3
+  input(1.5, {at(20.0, 3.0)});   // segment 4 until 4.5; binary ignores it (1.5 s left)
+  input(2.5, {at(20.0, 3.0)});   // binary restarts (0.5 s left) to 5.5; segment 4 had 2 s left
+  for (int k = 30; k < 55; ++k) {  // segment 3 is off from 3 s on
+    const double t = 0.1 * k;
+    binary.tick(t);
+    c.tick(t);
+    ASSERT_TRUE(binary.on()) << t;
+    ASSERT_EQ(lit(c), (std::vector<int>{4})) << t << ": the binary lamp is ON for danger";
+  }
+  c.tick(5.5);
+  EXPECT_TRUE(lit(c).empty());
+}
+
+// Whatever the inputs (objects anywhere, gaps beyond the watchdog, blind frames, daylight, a bag
+// loop), whenever the binary lamp fed the same inputs is ON some segment is lit, and a
+// fail-safe lights all of them.
+TEST(SegmentedLightController, NeverDarkerThanTheBinaryLamp) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const bool gated : {false, true}) {
+    LightControllerParams params = paperParams(true);
+    params.illumination_enabled = gated;
+    LightController binary(params);
+    SegmentedLightController seg(params, eightSegments());
+    double t = 100.0;
+    int danger_steps = 0, outside = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const double r = u(rng);
+      t += r < 0.02 ? 0.6 : 0.1;
+      if (i == 10000) t -= 50.0;
+      if (r < 0.4) {
+        std::vector<Eigen::AlignedBox2d> boxes;
+        const int n = u(rng) < 0.5 ? 0 : 1 + int(u(rng) * 2.0);
+        for (int k = 0; k < n; ++k) boxes.push_back(at(60.0 * u(rng) - 20.0, 60.0 * u(rng) - 30.0));
+        const bool blind = u(rng) < 0.03;
+        binary.onInput(t, !boxes.empty(), blind);
+        seg.onInput(t, boxes, blind);
+      } else if (r < 0.43) {
+        const auto state = static_cast<Illumination>(int(u(rng) * 3.0));
+        binary.onIllumination(t, state);
+        seg.onIllumination(t, state);
+      } else {
+        binary.tick(t);
+        seg.tick(t);
+      }
+      const std::vector<float> levels = seg.levels();
+      if (binary.on()) ASSERT_FALSE(lit(seg).empty()) << "step " << i << ": binary ON, every segment dark";
+      if (binary.on() && binary.reason() != LightReason::kDanger)
+        ASSERT_EQ(levels, std::vector<float>(8, 1.0f)) << "step " << i << ": fail-safe not full";
+      ASSERT_EQ(binary.on(), seg.binaryLamp().on()) << "step " << i;
+      danger_steps += binary.on() && binary.reason() == LightReason::kDanger;
+    }
+    outside = int(seg.unlitObjects());
+    EXPECT_GT(danger_steps, 2000);  // the danger timer was exercised
+    EXPECT_GT(outside, 100);        // and so were objects outside every segment
+  }
 }
 
 TEST(SegmentedLightController, EachSegmentRunsThePapersTimer) {

@@ -47,6 +47,11 @@ struct LightBridgeParams {
   double link_timeout_s = 6.0;
   double negotiation_retry_s = 1.0;    // "request topics" repeated this often until synced [s]
   double cmd_stale_timeout_s = 1.0;    // no lamp_cmd from ROS this long: command ON [s]
+  // A device that reported its lamp state and then reports nothing this long: lamp status
+  // unknown (fail-safe) at once, not after link_timeout_s. The sketch reports every 100 ms and
+  // turns its lamp ON after 500 ms without a command (COMMAND_TIMEOUT_MS), so a silent board
+  // is, by then, ON or not running at all [s]; in (0, link_timeout_s].
+  double lamp_report_timeout_s = 0.5;
   double frame_timeout_s = 0.1;        // a frame stalled this long mid-way is abandoned [s]
   int max_payload_bytes = 512;         // larger announced lengths are rejected (device buffer)
 };
@@ -75,7 +80,8 @@ enum class SessionError : std::uint8_t {
 enum class LampStatus : std::uint8_t {
   kOff = 0,
   kOn = 1,
-  kUnknownFailSafe = 2,  // link down: no report; the device's command timeout turns the lamp ON
+  kUnknownFailSafe = 2,  // link down, or the device's reports stopped (lamp_report_timeout_s):
+                         // no report; the device's command timeout turns the lamp ON
   kNotReported = 3,      // link up, but the device publishes no lamp state (subscribe-only)
 };
 const char* toString(LampStatus status);
@@ -128,6 +134,7 @@ struct SessionCounters {
   std::uint64_t time_replies = 0;
   std::uint64_t device_logs = 0;
   std::uint64_t lamp_reports = 0;
+  std::uint64_t overdue_reports = 0;     // times the device's lamp reports stopped (status unknown)
   std::uint64_t link_ups = 0;
   std::uint64_t link_losses = 0;
   std::uint64_t type_mismatches = 0;     // announced topics refused for their type/md5
@@ -168,8 +175,10 @@ class LightBridgeSession {
   bool levelsStale(double now) const;
   bool hasLampReport() const { return has_lamp_report_; }
   bool lampReport() const { return lamp_report_; }
-  // Unknown (fail-safe) unless synced; the report of this link only (forgotten when it drops).
+  // Unknown (fail-safe) unless synced or while the reports are overdue (lamp_report_timeout_s,
+  // as of the last tick); the report of this link only (forgotten when it drops).
   LampStatus lampStatus() const;
+  bool lampReportOverdue() const { return report_overdue_; }
   double lastLampReportTime() const { return last_lamp_report_s_; }
   double lastRxTime() const { return last_rx_s_; }
   std::uint16_t cmdTopicId() const { return cmd_id_; }
@@ -207,6 +216,7 @@ class LightBridgeSession {
   bool command_ = true;
   double last_command_s_ = 0.0;
   bool has_lamp_report_ = false;
+  bool report_overdue_ = false;  // a device that reports went silent for lamp_report_timeout_s
   bool lamp_report_ = true;
   double last_lamp_report_s_ = 0.0;
   bool warned_unsupported_ = false;
