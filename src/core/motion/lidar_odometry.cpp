@@ -690,16 +690,18 @@ LidarOdometry::RestTest LidarOdometry::testRest() {
   const double best = std::min({f.sse_result, f.sse_still, f.sse_prior});
   const double variance =
       std::max(best / static_cast<double>(f.count - kDof), std::numeric_limits<double>::min());
-  if (rest_critical_count_ != f.count) {  // the 99.9 % point of F(6, n - 6)
-    rest_critical_ = boost::math::quantile(
+  // The 99.9 % point of F(6, n - 6), once per n (an inverse incomplete beta function).
+  if (rest_critical_.size() <= f.count)
+    rest_critical_.resize(f.count + 1, std::numeric_limits<double>::quiet_NaN());
+  double& critical = rest_critical_[f.count];
+  if (std::isnan(critical))
+    critical = boost::math::quantile(
         boost::math::fisher_f_distribution<double>(kDof, static_cast<double>(f.count - kDof)), 0.999);
-    rest_critical_count_ = f.count;
-  }
   const auto statistic = [&](double sse) { return (sse - best) / (kDof * variance); };
   stats_.rest_residuals = f.count;
   stats_.rest_f = statistic(f.sse_still);
-  test.still_fits = stats_.rest_f <= rest_critical_;
-  test.prior_ruled_out = statistic(f.sse_prior) > rest_critical_;
+  test.still_fits = stats_.rest_f <= critical;
+  test.prior_ruled_out = statistic(f.sse_prior) > critical;
   return test;
 }
 
@@ -837,7 +839,9 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   }
   pose_ = estimate;
   last_stamp_s_ = stamp_s;
-  updateMap(pose_);
+  // At rest the scan sees what the map holds from where it stands; placed again at a held pose
+  // (off by the last registrations' error) it would only blur the map the next frames match.
+  if (!at_rest) updateMap(pose_);
   pruneMap(pose_.translation());
   stats_.map_points = map_points_;
   stats_.map_ms = odometryNowMs() - t2;

@@ -390,8 +390,7 @@ class LidarOdometry {
   bool weakly_observed_ = false;  // degenerate only for the horizontal observability
   RestFit rest_fit_;
   bool at_rest_ = false;  // the last frame was at rest
-  std::size_t rest_critical_count_ = 0;  // atRest's critical F value for this many residuals
-  double rest_critical_ = 0.0;
+  std::vector<double> rest_critical_;  // testRest's critical F per number of residuals (NaN: not yet)
   Eigen::Vector3d weakest_ = Eigen::Vector3d::UnitX();
   double across_observability_ = 0.0;
 
