@@ -4,6 +4,10 @@
 // in the .test file (measured values with a margin; the command that measured them is there).
 //   ~scenario     scenario file under config/scenarios (or ~kitti_frames > 0 for KITTI 0000)
 //   ~min_*/~max_* thresholds; a missing one is not checked
+//   ~stopped_from_s, ~stopped_to_s: a window (seconds from the first frame) where the vehicle
+//     stands still, for ~max_ego_speed_stopped (the graph's ego speed [m/s]) and
+//     ~max_flagged_stopped (detections flagged dangerous: the scenario has nothing truly
+//     dangerous there)
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -111,6 +115,31 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"max_motion_unlabelled_moving",
        r.motion_unlabelled.n() ? r.motion_unlabelled.share(MotionState::kMoving) : 0.0},
   };
+  double stopped_from = 0.0, stopped_to = -1.0;
+  pnh.param("stopped_from_s", stopped_from, stopped_from);
+  pnh.param("stopped_to_s", stopped_to, stopped_to);
+  double stopped_speed = 0.0, stopped_flagged = 0.0;
+  std::size_t stopped_frames = 0;
+  for (const EvalFrame& f : frames) {
+    const double since = f.t - frames.front().t;
+    if (!f.processed || since < stopped_from - 1e-6 || since > stopped_to + 1e-6) continue;
+    ++stopped_frames;
+    stopped_speed = std::max(stopped_speed, f.ego_velocity.norm());
+    for (const DetectedObject& d : f.detections) stopped_flagged += d.dangerous ? 1.0 : 0.0;
+  }
+  if (stopped_to >= stopped_from) {
+    std::printf("stopped %.1f-%.1f s: %zu frames, ego speed at most %.3f m/s, %.0f flagged\n",
+                stopped_from, stopped_to, stopped_frames, stopped_speed, stopped_flagged);
+    EXPECT_GT(stopped_frames, 0u) << "no frame in the stopped window";
+  }
+  const Check stopped[] = {{"max_ego_speed_stopped", stopped_speed},
+                           {"max_flagged_stopped", stopped_flagged}};
+  for (const Check& c : stopped) {
+    double bound;
+    if (pnh.getParam(c.name, bound)) {
+      EXPECT_LE(c.value, bound) << c.name;
+    }
+  }
   for (const Check& c : mins) {
     double bound;
     if (pnh.getParam(c.name, bound)) {
