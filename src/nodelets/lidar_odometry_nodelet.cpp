@@ -213,6 +213,7 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     // so a fusing filter trusts it little.
     const bool measured = result == LidarOdometryStats::Result::kRegistered ||
                           result == LidarOdometryStats::Result::kHeld ||
+                          result == LidarOdometryStats::Result::kAtRest ||
                           result == LidarOdometryStats::Result::kFirstFrame ||
                           result == LidarOdometryStats::Result::kReset;
     const double pos_var = measured ? 0.05 * 0.05 : 1.0, rot_var = measured ? 0.01 * 0.01 : 0.01;
@@ -257,6 +258,7 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
     stat.add("transform failures", tf_failures_);
     stat.add("frames", c.frames);
     stat.add("registered", c.registered);
+    stat.add("at rest (the scan fits no motion)", c.at_rest);
     stat.add("degenerate (motion prior)", c.degenerate);
     stat.add("of those, registered along-track held (speed only)", c.held);
     stat.add("too few points (motion prior)", c.extrapolated);

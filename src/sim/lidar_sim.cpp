@@ -46,7 +46,7 @@ Eigen::Vector3f SceneObject::velocityAt(double t) const {
   if (!(t >= start_s && t < stop_s)) return Eigen::Vector3f::Zero();
   if (path.empty()) return velocity;
   const double heading = double(yawAt(t));
-  const double speed = segmentAt(path, t - clampTime(0.0, *this)).speed_mps;
+  const double speed = speedAlong(path, t - clampTime(0.0, *this));
   return Eigen::Vector3f(float(speed * std::cos(heading)), float(speed * std::sin(heading)), 0.0f);
 }
 

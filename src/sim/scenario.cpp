@@ -73,7 +73,8 @@ void rejectUnknownKeys(const YAML::Node& node, const std::vector<std::string>& k
   }
 }
 
-// A path: a non-empty list of {duration_s, speed_mps, yaw_rate_deg_s (default 0)}.
+// A path: a non-empty list of {duration_s, speed_mps, yaw_rate_deg_s (default 0), end_speed_mps
+// (default speed_mps: the speed changes evenly to it over the segment)}.
 std::vector<PathSegment> readSegments(const YAML::Node& segments, const std::string& name,
                                       const Context& ctx) {
   if (!segments.IsSequence() || segments.size() == 0)
@@ -85,7 +86,7 @@ std::vector<PathSegment> readSegments(const YAML::Node& segments, const std::str
     const YAML::Node seg = segments[i];
     const std::string at = name + "[" + std::to_string(i) + "]";
     if (!seg.IsMap()) ctx.fail(at, "must be a mapping {duration_s, speed_mps, yaw_rate_deg_s}");
-    rejectUnknownKeys(seg, {"duration_s", "speed_mps", "yaw_rate_deg_s"}, at, ctx);
+    rejectUnknownKeys(seg, {"duration_s", "speed_mps", "yaw_rate_deg_s", "end_speed_mps"}, at, ctx);
     for (const char* required : {"duration_s", "speed_mps"})
       if (!seg[required]) ctx.fail(at + "." + required, "missing");
     PathSegment e;
@@ -94,6 +95,8 @@ std::vector<PathSegment> readSegments(const YAML::Node& segments, const std::str
     e.speed_mps = getBounded(seg, "speed_mps", at + ".speed_mps", 0.0, 0.0, kMaxSpeedMps, ctx);
     e.yaw_rate_rad_s = kDegToRad * getBounded(seg, "yaw_rate_deg_s", at + ".yaw_rate_deg_s", 0.0,
                                               -kMaxYawRateDegS, kMaxYawRateDegS, ctx);
+    e.end_speed_mps = getBounded(seg, "end_speed_mps", at + ".end_speed_mps", e.speed_mps, 0.0,
+                                 kMaxSpeedMps, ctx);
     out.push_back(e);
   }
   return out;
@@ -172,7 +175,7 @@ EgoTwist Scenario::vehicleTwist(double t) const {
     return twist;
   }
   const PathSegment& seg = segmentAt(ego_segments, t);
-  twist.linear = Eigen::Vector3f(static_cast<float>(seg.speed_mps), 0.0f, 0.0f);
+  twist.linear = Eigen::Vector3f(static_cast<float>(speedAlong(ego_segments, t)), 0.0f, 0.0f);
   twist.yaw_rate = static_cast<float>(seg.yaw_rate_rad_s);
   return twist;
 }

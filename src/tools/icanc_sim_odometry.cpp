@@ -54,7 +54,8 @@ void follow(const std::string& path, bool twist, bool speed_only, bool trace) {
   const Eigen::Isometry3d start_inv = s.vehiclePose(0.0).cast<double>().inverse();
   const Eigen::Affine3f mount(s.sensor_mount.matrix());  // sensor frame -> base_link
   double worst_position = 0.0, worst_yaw = 0.0, worst_speed = 0.0;
-  std::size_t registered = 0, held = 0;
+  std::size_t registered = 0, held = 0, at_rest = 0;
+  double worst_standing = 0.0;  // speed while the scripted vehicle stands
   std::vector<double> structure, road, observability;
   for (std::size_t f = 0; f < s.frames(); ++f) {
     const double t = double(f) / s.rate_hz;
@@ -96,21 +97,25 @@ void follow(const std::string& path, bool twist, bool speed_only, bool trace) {
     using Result = icanc::LidarOdometryStats::Result;
     registered += stats.result == Result::kRegistered;
     held += stats.result == Result::kHeld;
+    at_rest += stats.result == Result::kAtRest;
+    if (f > 0 && s.vehicleTwist(t).linear.norm() == 0.0 && s.vehicleTwist(t).yaw_rate == 0.0)
+      worst_standing = std::max(worst_standing, odometry.linearVelocity().norm());
     if (stats.result == Result::kRegistered || stats.result == Result::kDegenerate ||
-        stats.result == Result::kHeld)  // registration attempted
+        stats.result == Result::kHeld || stats.result == Result::kAtRest)  // registration attempted
       observability.push_back(stats.horizontal_observability);
     if (trace)
       std::printf("  t %5.1f  estimate (%7.2f %6.2f %6.3f)  truth (%7.2f %6.2f %6.3f)  speed %5.2f / %5.2f  "
-                  "points above / on the road %zu / %zu  observability %.3f  %s\n",
+                  "points above / on the road %zu / %zu  observability %.3f  rest F %.2f  %s\n",
                   t, estimate.translation().x(), estimate.translation().y(), yawOf(estimate),
                   truth.translation().x(), truth.translation().y(), yawOf(truth),
                   odometry.linearVelocity().x(), s.vehicleTwist(t).linear.x(), above, below,
-                  stats.horizontal_observability, icanc::toString(stats.result));
+                  stats.horizontal_observability, stats.rest_f, icanc::toString(stats.result));
   }
-  std::printf("%s: %zu frames, %zu registered, %zu along-track held; worst position error %.2f m, yaw %.3f rad, forward speed "
-              "%.2f m/s (after 1 s); returns in range above / on the road, median per frame: %.0f / %.0f; "
+  std::printf("%s: %zu frames, %zu registered, %zu along-track held, %zu at rest; worst position error %.2f m, yaw %.3f rad, forward speed "
+              "%.2f m/s (after 1 s), speed while standing %.3f m/s; returns in range above / on the road, median per frame: %.0f / %.0f; "
               "horizontal observability median %.3f, min %.3f\n",
-              s.name.c_str(), s.frames(), registered, held, worst_position, worst_yaw, worst_speed,
+              s.name.c_str(), s.frames(), registered, held, at_rest, worst_position, worst_yaw, worst_speed,
+              worst_standing,
               icanc::percentile(structure, 0.5), icanc::percentile(road, 0.5),
               icanc::percentile(observability, 0.5), icanc::percentile(observability, 0.0));
 }

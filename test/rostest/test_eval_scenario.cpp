@@ -10,6 +10,10 @@
 //   ~min_*/~max_* golden pins, the last measured values with one frame of slack, written by
 //                 scripts/rebaseline_eval so that any change of behaviour is seen.
 //   ~scenario     scenario file under config/scenarios (or ~kitti_frames > 0 for KITTI 0000)
+//   ~stopped_from_s, ~stopped_to_s: a window (seconds from the first frame) where the vehicle
+//     stands still, for ~max_ego_speed_stopped (the graph's ego speed [m/s]) and
+//     ~max_flagged_stopped (detections flagged dangerous: the scenario has nothing truly
+//     dangerous there); hand-written bounds, which scripts/rebaseline_eval leaves alone
 // A missing bound is not checked.
 #include <algorithm>
 #include <cstdio>
@@ -146,6 +150,31 @@ TEST(EvalScenario, MetricsWithinThresholds) {
     }
   }
   EXPECT_GT(floors, 0) << "an eval test states its acceptance floors (~accept/*)";
+  double stopped_from = 0.0, stopped_to = -1.0;
+  pnh.param("stopped_from_s", stopped_from, stopped_from);
+  pnh.param("stopped_to_s", stopped_to, stopped_to);
+  double stopped_speed = 0.0, stopped_flagged = 0.0;
+  std::size_t stopped_frames = 0;
+  for (const EvalFrame& f : frames) {
+    const double since = f.t - frames.front().t;
+    if (!f.processed || since < stopped_from - 1e-6 || since > stopped_to + 1e-6) continue;
+    ++stopped_frames;
+    stopped_speed = std::max(stopped_speed, f.ego_velocity.norm());
+    for (const DetectedObject& d : f.detections) stopped_flagged += d.dangerous ? 1.0 : 0.0;
+  }
+  if (stopped_to >= stopped_from) {
+    std::printf("stopped %.1f-%.1f s: %zu frames, ego speed at most %.3f m/s, %.0f flagged\n",
+                stopped_from, stopped_to, stopped_frames, stopped_speed, stopped_flagged);
+    EXPECT_GT(stopped_frames, 0u) << "no frame in the stopped window";
+  }
+  const Check stopped[] = {{"max_ego_speed_stopped", stopped_speed},
+                           {"max_flagged_stopped", stopped_flagged}};
+  for (const Check& c : stopped) {
+    double bound;
+    if (pnh.getParam(c.name, bound)) {
+      EXPECT_LE(c.value, bound) << c.name;
+    }
+  }
   for (const Check& c : mins) {
     double bound;
     if (pnh.getParam(c.name, bound)) {

@@ -127,6 +127,49 @@ TEST(Path, EmptyThrowsAndNegativeTimeRunsBackwards) {
   EXPECT_NEAR(later.y - fwd.y, 8.0 * std::sin(0.5), 1e-12);
 }
 
+TEST(Scenario, SpeedChangesEvenlyToAStop) {
+  // 1 s at 10 m/s, braking evenly to a stop in 2 s (5 m/s^2: 10 m), then standing.
+  const Scenario s = loadScenario(writeTemp(
+      "duration_s: 6\nego:\n  segments:\n"
+      "    - {duration_s: 1, speed_mps: 10}\n"
+      "    - {duration_s: 2, speed_mps: 10, end_speed_mps: 0}\n"
+      "    - {duration_s: 3, speed_mps: 0}\n"));
+  EXPECT_NEAR(s.vehiclePose(2.0).translation().x(), 10.0 + 7.5, 1e-5);
+  EXPECT_NEAR(s.vehiclePose(3.0).translation().x(), 20.0, 1e-5);
+  EXPECT_NEAR(s.vehiclePose(5.5).translation().x(), 20.0, 1e-5);
+  EXPECT_NEAR(s.vehiclePose(5.5).translation().y(), 0.0, 1e-6);
+  EXPECT_NEAR(s.vehicleTwist(2.0).linear.x(), 5.0, 1e-6);
+  EXPECT_NEAR(s.vehicleTwist(2.9).linear.x(), 0.5, 1e-5);
+  EXPECT_NEAR(s.vehicleTwist(4.0).linear.x(), 0.0, 1e-9);
+  EXPECT_NEAR(s.vehicleVelocity(2.5).x(), 2.5, 1e-5);
+  // A last segment that changes speed holds its end speed past its end.
+  const std::vector<PathSegment> ramp = {{2.0, 2.0, 0.0, 4.0}};
+  EXPECT_NEAR(speedAlong(ramp, 1.0), 3.0, 1e-12);
+  EXPECT_NEAR(speedAlong(ramp, 5.0), 4.0, 1e-12);
+  EXPECT_NEAR(poseAlong(ramp, 5.0).x, 6.0 + 12.0, 1e-9);
+}
+
+TEST(Path, ArcWithAChangingSpeedMatchesFineIntegration) {
+  // Speeding up 2 -> 8 m/s over 3 s while turning at 0.4 rad/s and at 1e-4 rad/s (the series of
+  // the closed form near no turn), against a fine midpoint integration.
+  for (const double w : {0.4, 1e-4, -0.7}) {
+    const std::vector<PathSegment> path = {{3.0, 2.0, w, 8.0}};
+    double x = 0.0, y = 0.0, theta = 0.0;
+    const int steps = 300000;
+    const double h = 3.0 / steps;
+    for (int i = 0; i < steps; ++i) {
+      const double tm = (i + 0.5) * h, v = 2.0 + 2.0 * tm, th = theta + 0.5 * w * h;
+      x += v * std::cos(th) * h;
+      y += v * std::sin(th) * h;
+      theta += w * h;
+    }
+    const PlanarPose p = poseAlong(path, 3.0);
+    EXPECT_NEAR(p.x, x, 1e-6) << w;
+    EXPECT_NEAR(p.y, y, 1e-6) << w;
+    EXPECT_NEAR(p.theta, 3.0 * w, 1e-12) << w;
+  }
+}
+
 TEST(Scenario, ObjectFollowsItsPath) {
   // A car heading -x from (50, 3.5) from t = 1 s: 2 s straight at 10 m/s, then a left arc at
   // 10 m/s, 18 deg/s (R = 31.83 m, about (30, 3.5 - R)).
@@ -209,6 +252,8 @@ TEST(Scenario, MistakesNameTheKey) {
   EXPECT_NE(error("ego: {segments: [{duration_s: 1, speed_mps: 1, yaw_rate: 3}]}\n")
                 .find("ego.segments[0].yaw_rate: unknown key"), std::string::npos);
   EXPECT_NE(error("ego: {segments: [5]}\n").find("ego.segments[0]"), std::string::npos);
+  EXPECT_NE(error("ego: {segments: [{duration_s: 1, speed_mps: 1, end_speed_mps: -2}]}\n")
+                .find("ego.segments[0].end_speed_mps"), std::string::npos);
   EXPECT_NE(error("objects:\n  - {velocity: [1, 0, 0], path: [{duration_s: 1, speed_mps: 1}]}\n")
                 .find("objects[1].path: give either velocity or path"), std::string::npos);
   EXPECT_NE(error("objects:\n  - {path: [{duration_s: 1, speed_mps: 200}]}\n")

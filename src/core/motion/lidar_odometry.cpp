@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#include <boost/math/distributions/fisher_f.hpp>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -69,6 +70,8 @@ const char* toString(LidarOdometryStats::Result result) {
       return "reset (time went backwards)";
     case LidarOdometryStats::Result::kHeld:
       return "registered, along-track from the measured twist";
+    case LidarOdometryStats::Result::kAtRest:
+      return "at rest (the scan fits no motion)";
   }
   return "?";
 }
@@ -167,6 +170,7 @@ void LidarOdometry::reset() {
   last_delta_.setIdentity();
   last_delta_dt_ = 0.0;
   has_last_seed_ = false;
+  at_rest_ = false;
   linear_velocity_.setZero();
   angular_velocity_.setZero();
   deviation_sse_ = 0.0;
@@ -336,6 +340,9 @@ int nearestPacked(const float* xs, int count, std::size_t stride, const Eigen::V
 bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
                                  Eigen::Isometry3d& result, const Eigen::Vector3d* held) {
   slid_ = false;
+  weakly_observed_ = false;
+  rest_fit_ = RestFit();
+  rest_fit_.prior = guess;
   // Held: the step is solved in the five directions orthogonal to (held, 0): the other horizontal
   // one, up, and the three rotations.
   Eigen::Matrix<double, 6, 5> basis = Eigen::Matrix<double, 6, 5>::Zero();
@@ -464,7 +471,7 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
   result.translation() = translation;
   if (matched >= 6)
     stats_.horizontal_observability =
-        horizontalObservability(result, max_d2, &weakest_, &across_observability_);
+        horizontalObservability(result, max_d2, &weakest_, &across_observability_, &rest_fit_);
   // Degenerate: too few matches, a rotation the points cannot observe (all on one line: the
   // smallest eigenvalue of the information, per unit weight, near zero), a horizontal direction
   // no matched surface faces (horizontal_observability), or a correction of the prior no real
@@ -482,6 +489,8 @@ bool LidarOdometry::registerScan(const Eigen::Isometry3d& guess, double sigma,
     // A horizontal direction the matched surfaces do not constrain: ICP slid along it.
     if (stats_.horizontal_observability < params_.min_horizontal_observability) {
       slid_ = across_observability_ >= params_.min_horizontal_observability;
+      weakly_observed_ = result.matrix().allFinite() &&
+                         (result.translation() - guess.translation()).norm() <= params_.max_correction_m;
       return false;
     }
   }
@@ -520,9 +529,15 @@ bool LidarOdometry::fitPlane(const std::int32_t voxels[8], Eigen::Vector3f& norm
 }
 
 double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, float max_d2,
-                                              Eigen::Vector3d* weakest, double* across) const {
+                                              Eigen::Vector3d* weakest, double* across,
+                                              RestFit* rest) const {
   const Eigen::Matrix3f r = pose.rotation().cast<float>();
   const Eigen::Vector3f t = pose.translation().cast<float>();
+  // The two alternatives of the at-rest test: the last pose (no motion) and the prior.
+  const Eigen::Matrix3f r_still = pose_.rotation().cast<float>();
+  const Eigen::Vector3f t_still = pose_.translation().cast<float>();
+  const Eigen::Matrix3f r_prior = rest ? rest->prior.rotation().cast<float>() : r;
+  const Eigen::Vector3f t_prior = rest ? rest->prior.translation().cast<float>() : t;
   const int per_voxel = params_.max_points_per_voxel;
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   std::size_t used = 0;
@@ -571,6 +586,20 @@ double LidarOdometry::horizontalObservability(const Eigen::Isometry3d& pose, flo
     const Eigen::Vector3d n = eig.eigenvectors().col(0).cast<double>();  // smallest spread: normal
     info += n * n.transpose();
     ++used;
+    // At rest: on a plane (as fitPlane judges it), the distances along its normal of the point
+    // placed at the result, at the last pose and at the prior. The same planes for all three, so
+    // the sums differ only by the motion they assume.
+    const Eigen::Vector3f& l = eig.eigenvalues();
+    if (rest && l(1) > 1e-6f && l(0) <= 0.1f * l(1)) {
+      const Eigen::Vector3f nf = eig.eigenvectors().col(0);
+      const double d_result = nf.dot(s - mean);
+      const double d_still = nf.dot(r_still * registration_[i] + t_still - mean);
+      const double d_prior = nf.dot(r_prior * registration_[i] + t_prior - mean);
+      rest->sse_result += d_result * d_result;
+      rest->sse_still += d_still * d_still;
+      rest->sse_prior += d_prior * d_prior;
+      ++rest->count;
+    }
   }
   if (across) *across = 0.0;
   if (used == 0) return 0.0;
@@ -649,6 +678,33 @@ std::vector<Eigen::Vector3f> LidarOdometry::mapCloud() const {
   return out;
 }
 
+LidarOdometry::RestTest LidarOdometry::testRest() {
+  // Nested least squares: "no motion" is the six-parameter motion fixed at zero. Its extra sum of
+  // squares over the best fit, per parameter, against the best fit's residual variance is
+  // F(6, n - 6) distributed when the vehicle stands; the scatter of the residuals (sensor noise,
+  // the map's planes) sets the scale, so no tolerance is tuned. The prior is judged the same way.
+  constexpr int kDof = 6;
+  RestTest test;
+  const RestFit& f = rest_fit_;
+  if (f.count < static_cast<std::size_t>(params_.min_points)) return test;
+  const double best = std::min({f.sse_result, f.sse_still, f.sse_prior});
+  const double variance =
+      std::max(best / static_cast<double>(f.count - kDof), std::numeric_limits<double>::min());
+  // The 99.9 % point of F(6, n - 6), once per n (an inverse incomplete beta function).
+  if (rest_critical_.size() <= f.count)
+    rest_critical_.resize(f.count + 1, std::numeric_limits<double>::quiet_NaN());
+  double& critical = rest_critical_[f.count];
+  if (std::isnan(critical))
+    critical = boost::math::quantile(
+        boost::math::fisher_f_distribution<double>(kDof, static_cast<double>(f.count - kDof)), 0.999);
+  const auto statistic = [&](double sse) { return (sse - best) / (kDof * variance); };
+  stats_.rest_residuals = f.count;
+  stats_.rest_f = statistic(f.sse_still);
+  test.still_fits = stats_.rest_f <= critical;
+  test.prior_ruled_out = statistic(f.sse_prior) > critical;
+  return test;
+}
+
 Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_start_ms) {
   frame_.resize(frame_count_);
   ++counters_.frames;
@@ -716,7 +772,29 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
     stats_.map_points = map_points_;
     return pose_;
   }
-  if (registerScan(prediction, stats_.threshold_m, estimate)) {
+  const bool registered = registerScan(prediction, stats_.threshold_m, estimate);
+  // The vehicle at rest: the pose holds, where the scan fits no motion and rules the prior out
+  // (or the vehicle stood already: the prior is no motion then). Where the prior fits as well
+  // (a slow drive, walls that fit any motion along them) the data do not say it stopped, and the
+  // registration or the prior stays. Not where a degenerate frame has a measured twist: the twist
+  // says how it moved.
+  const RestTest rest = registered || !seeded ? testRest() : RestTest();
+  const bool at_rest = rest.still_fits && (at_rest_ || rest.prior_ruled_out);
+  // A frame degenerate only for its weak horizontal direction whose prior carries a motion that
+  // the scan rules out (the vehicle braked, or the prior came from a poor registration) takes the
+  // registration's fit instead of carrying the prior on. A prior of no motion stays: the rest
+  // test judged it, and what rules it out in a weakly observed scene may be a moving object.
+  const Eigen::Isometry3d prior_motion = pose_.inverse() * prediction;
+  const bool prior_moves = prior_motion.translation().norm() > 1e-6 ||
+                           Eigen::AngleAxisd(prior_motion.rotation()).angle() > 1e-6;  // rounding
+  const bool fit_over_prior = !registered && !at_rest && !seeded && weakly_observed_ &&
+                              prior_moves && rest.prior_ruled_out;
+  at_rest_ = at_rest;
+  if (at_rest) {
+    ++counters_.at_rest;
+    stats_.result = LidarOdometryStats::Result::kAtRest;
+    estimate = pose_;
+  } else if (registered || fit_over_prior) {
     ++counters_.registered;
     stats_.result = LidarOdometryStats::Result::kRegistered;
     const Eigen::Isometry3d deviation = prediction.inverse() * estimate;
@@ -746,7 +824,12 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   const double t2 = odometryNowMs();
   stats_.register_ms = t2 - t1;
 
-  if (dt > 0.0) {
+  if (dt > 0.0 && at_rest) {  // exactly no motion (pose_^-1 pose_ is identity only to rounding)
+    linear_velocity_.setZero();
+    angular_velocity_.setZero();
+    last_delta_.setIdentity();
+    last_delta_dt_ = dt;
+  } else if (dt > 0.0) {
     const Eigen::Isometry3d delta = pose_.inverse() * estimate;
     const Eigen::AngleAxisd turn(delta.rotation());
     linear_velocity_ = delta.translation() / dt;
@@ -756,7 +839,9 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   }
   pose_ = estimate;
   last_stamp_s_ = stamp_s;
-  updateMap(pose_);
+  // At rest the scan sees what the map holds from where it stands; placed again at a held pose
+  // (off by the last registrations' error) it would only blur the map the next frames match.
+  if (!at_rest) updateMap(pose_);
   pruneMap(pose_.translation());
   stats_.map_points = map_points_;
   stats_.map_ms = odometryNowMs() - t2;

@@ -105,6 +105,9 @@ struct LidarOdometryStats {
                     // registered with the translation along it held at the speed's (seedTwist)
     kExtrapolated,  // too few points (empty / tiny cloud): pose from the motion prior
     kReset,         // stamp went backwards: everything restarted at this frame
+    kAtRest,        // the scan fits the map without motion since the last frame as well as at
+                    // the registration's result (and, for a degenerate registration, the motion
+                    // prior does not fit): pose held, twist zero
   };
   Result result = Result::kFirstFrame;
   std::size_t input_points = 0;         // points offered (incl. NaN / out of range)
@@ -119,6 +122,12 @@ struct LidarOdometryStats {
   // direction leave it near 0 (ICP slides); a street with structure across it does not.
   double horizontal_observability = 0.0;
   double threshold_m = 0.0;  // adaptive sigma used this frame
+  // The at-rest test (kAtRest): of the registration points matched to a planar neighbourhood at
+  // the result, how many, and how much worse "no motion since the last frame" fits them than the
+  // best of it, the result and the prior, as an F statistic (6 and residuals - 6 degrees of
+  // freedom; 0 when not tested).
+  std::size_t rest_residuals = 0;
+  double rest_f = 0.0;
   bool speed_seeded = false;  // a pose from the vehicle's measured twist (seedTwist)
   double downsample_ms = 0.0, register_ms = 0.0, map_ms = 0.0;
   double totalMs() const { return downsample_ms + register_ms + map_ms; }
@@ -129,6 +138,7 @@ const char* toString(LidarOdometryStats::Result result);
 struct LidarOdometryCounters {
   std::uint64_t frames = 0, registered = 0, degenerate = 0, extrapolated = 0, resets = 0;
   std::uint64_t held = 0;  // of the degenerate, registered along the rest (Result::kHeld)
+  std::uint64_t at_rest = 0;  // pose held: the scan fits no motion (Result::kAtRest)
   std::uint64_t gaps = 0;  // dt above max_dt_s: prior dropped
   std::uint64_t speed_seeded = 0;  // poses from the vehicle's measured twist (seedTwist)
   std::uint64_t nonfinite_points = 0;
@@ -324,8 +334,23 @@ class LidarOdometry {
   // within sqrt(max_d2).
   // weakest: set to the unit horizontal direction (odom) the matched surfaces constrain least;
   // across: the same share for the direction across it (the largest eigenvalue).
+  // rest: also sums the point-to-plane residuals of the planar matches at `pose`, at the last
+  // pose (no motion) and at the prior, each against the plane found at `pose`.
+  struct RestFit {
+    Eigen::Isometry3d prior = Eigen::Isometry3d::Identity();
+    std::size_t count = 0;
+    double sse_result = 0.0, sse_still = 0.0, sse_prior = 0.0;
+  };
   double horizontalObservability(const Eigen::Isometry3d& pose, float max_d2,
-                                 Eigen::Vector3d* weakest = nullptr, double* across = nullptr) const;
+                                 Eigen::Vector3d* weakest = nullptr, double* across = nullptr,
+                                 RestFit* rest = nullptr) const;
+  // Of rest_fit_ (the last registerScan): does "no motion since the last frame" fit the scan as
+  // well as the best of it, the result and the prior, within what the residuals' own scatter
+  // allows (an F test at 1 %), and is the prior ruled out by the same test? Sets stats_.rest_*.
+  struct RestTest {
+    bool still_fits = false, prior_ruled_out = false;
+  };
+  RestTest testRest();
   void updateMap(const Eigen::Isometry3d& pose);
   void pruneMap(const Eigen::Vector3d& origin);
   double adaptiveThreshold() const;
@@ -362,6 +387,10 @@ class LidarOdometry {
   std::size_t block_stride_ = 0;      // 8 * max_points_per_voxel (whole packets of 4)
   std::vector<float> block_points_;  // 3 * block_stride_ per registration point
   bool slid_ = false;
+  bool weakly_observed_ = false;  // degenerate only for the horizontal observability
+  RestFit rest_fit_;
+  bool at_rest_ = false;  // the last frame was at rest
+  std::vector<double> rest_critical_;  // testRest's critical F per number of residuals (NaN: not yet)
   Eigen::Vector3d weakest_ = Eigen::Vector3d::UnitX();
   double across_observability_ = 0.0;
 
