@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include <unistd.h>
@@ -37,6 +38,23 @@ struct Check {
   const char* name;
   double value;
 };
+
+// Checks each bound of `checks` the test states (private parameter ~name): a name with "min_" is
+// a floor, one with "max_" a ceiling. Returns how many were stated.
+template <std::size_t N>
+int checkBounds(const ros::NodeHandle& pnh, const Check (&checks)[N], const char* kind = "") {
+  int stated = 0;
+  for (const Check& c : checks) {
+    double bound;
+    if (!pnh.getParam(c.name, bound)) continue;
+    ++stated;
+    if (std::strstr(c.name, "min_"))
+      EXPECT_GE(c.value, bound) << c.name << kind;
+    else
+      EXPECT_LE(c.value, bound) << c.name << kind;
+  }
+  return stated;
+}
 
 TEST(EvalScenario, MetricsWithinThresholds) {
   ros::NodeHandle pnh("~");
@@ -123,32 +141,16 @@ TEST(EvalScenario, MetricsWithinThresholds) {
        r.motion_unlabelled.n() ? r.motion_unlabelled.share(MotionState::kMoving) : 0.0},
   };
   // Acceptance floors: what the requirement accepts, whatever the last measurement was.
-  const Check accept_mins[] = {
+  const Check accept[] = {
       {"accept/min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
       {"accept/min_danger_recall", r.danger.tp + r.danger.fn ? r.danger.recall() : 1.0},
       {"accept/min_danger_precision", r.danger.tp + r.danger.fp ? r.danger.precision() : 1.0},
       {"accept/min_lead_time_s", lead_min},
       {"accept/min_detection_recall", r.detection.tp + r.detection.fn ? r.detection.recall() : 1.0},
-  };
-  const Check accept_maxes[] = {
       // Lamp time beyond what a perfect danger detector needs with the same light controller.
       {"accept/max_duty_over_truth", r.duty_cycle - r.truth_duty_cycle},
   };
-  int floors = 0;
-  for (const Check& c : accept_mins) {
-    double bound;
-    if (pnh.getParam(c.name, bound)) {
-      ++floors;
-      EXPECT_GE(c.value, bound) << c.name << " (acceptance floor)";
-    }
-  }
-  for (const Check& c : accept_maxes) {
-    double bound;
-    if (pnh.getParam(c.name, bound)) {
-      ++floors;
-      EXPECT_LE(c.value, bound) << c.name << " (acceptance bound)";
-    }
-  }
+  const int floors = checkBounds(pnh, accept, " (acceptance bound)");
   EXPECT_GT(floors, 0) << "an eval test states its acceptance floors (~accept/*)";
   double stopped_from = 0.0, stopped_to = -1.0;
   pnh.param("stopped_from_s", stopped_from, stopped_from);
@@ -169,24 +171,9 @@ TEST(EvalScenario, MetricsWithinThresholds) {
   }
   const Check stopped[] = {{"max_ego_speed_stopped", stopped_speed},
                            {"max_flagged_stopped", stopped_flagged}};
-  for (const Check& c : stopped) {
-    double bound;
-    if (pnh.getParam(c.name, bound)) {
-      EXPECT_LE(c.value, bound) << c.name;
-    }
-  }
-  for (const Check& c : mins) {
-    double bound;
-    if (pnh.getParam(c.name, bound)) {
-      EXPECT_GE(c.value, bound) << c.name;
-    }
-  }
-  for (const Check& c : maxes) {
-    double bound;
-    if (pnh.getParam(c.name, bound)) {
-      EXPECT_LE(c.value, bound) << c.name;
-    }
-  }
+  checkBounds(pnh, stopped);
+  checkBounds(pnh, mins);
+  checkBounds(pnh, maxes);
 }
 
 }  // namespace
