@@ -5,6 +5,10 @@
 // ~lamp_segments draws the 8 wedges while subscribed; each command answering an input names it
 // and its latency, as the light state does (latency tools). segments_fault.test: an invalid segment list
 // is a faulted LightController that lights every segment (and the binary lamp).
+// segmented_lamp_outside.test: a dangerous object outside every segment (a pedestrian 75 deg
+// left, the lamp covers +-60 deg) lights every segment while the binary lamp is ON.
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 #include <gtest/gtest.h>
@@ -117,6 +121,103 @@ TEST(SegmentedLamp, InvalidSegmentsLightEverySegment) {
     EXPECT_TRUE(s->on);
     EXPECT_EQ(s->reason, LightState::REASON_FAULT);
   }
+}
+
+// The graph with no clouds (segmented_lamp_outside.test: points_topic /none), so the
+// DangerDetector publishes nothing; the test publishes the LightController's input itself: a
+// pedestrian 8 m from the lamp at 75 deg left, flagged dangerous, at 10 Hz for 2 s. No segment of
+// the 8 x 15 deg lamp over +-60 deg sees it (+ the 2 deg margin): every LampCommand published
+// while the binary lamp (light_state.on, which lamp_cmd carries in the same publication) is ON
+// must light a segment, and the commands for this danger must light all 8 at high beam.
+TEST(SegmentedLamp, DangerOutsideEverySegmentLightsEverySegment) {
+  ros::NodeHandle nh;
+  CommandRecorder cr;
+  std::mutex mutex;
+  std::vector<LightState::ConstPtr> states;
+  std::vector<ObstacleArray::ConstPtr> inputs;  // all on obstacles_danger
+  ros::Subscriber command_sub = nh.subscribe("/icanc/lamp_command", 500, &CommandRecorder::onCommand, &cr);
+  ros::Subscriber state_sub = nh.subscribe<LightState>("/icanc/light_state", 500, [&](const LightState::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    states.push_back(m);
+  });
+  ros::Subscriber input_sub = nh.subscribe<ObstacleArray>("/icanc/obstacles_danger", 100,
+                                                          [&](const ObstacleArray::ConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex);
+    inputs.push_back(m);
+  });
+  ros::Publisher input_pub = nh.advertise<ObstacleArray>("/icanc/obstacles_danger", 10);
+  ASSERT_TRUE(waitFor([&] {
+    return command_sub.getNumPublishers() > 0 && state_sub.getNumPublishers() > 0 &&
+           input_pub.getNumSubscribers() > 1;  // the LightController and input_sub
+  }, 30.0)) << "icanc graph did not come up";
+  ros::WallDuration(0.5).sleep();
+
+  const double lamp_x = 0.5, range = 8.0, azimuth = 75.0 * M_PI / 180.0;  // zebra lamp_position_m
+  const double cx = lamp_x + range * std::cos(azimuth), cy = range * std::sin(azimuth);
+  const int published = 20;
+  ros::WallRate rate(10.0);
+  for (int k = 0; k < published && ros::ok(); ++k) {
+    ObstacleArray a;
+    a.header.stamp = ros::Time::now();
+    a.header.frame_id = "base_link";
+    a.cloud_receive_time = a.header.stamp;
+    a.valid_points = 20000;
+    Obstacle o;
+    o.id = 7;
+    o.pose.position.x = cx;
+    o.pose.position.y = cy;
+    o.pose.position.z = 0.85;
+    o.pose.orientation.w = 1.0;
+    o.dimensions.x = o.dimensions.y = 0.6;
+    o.dimensions.z = 1.7;
+    o.aabb_min.x = cx - 0.3;
+    o.aabb_min.y = cy - 0.3;
+    o.aabb_max.x = cx + 0.3;
+    o.aabb_max.y = cy + 0.3;
+    o.aabb_max.z = 1.7;
+    o.section = Obstacle::SECTION_LEFT;
+    o.closest_distance = range - 0.3;
+    o.moving_toward = true;
+    o.dangerous = true;
+    o.age = o.hits = 10 + k;
+    a.obstacles.push_back(o);
+    a.num_dangerous = 1;
+    input_pub.publish(a);
+    rate.sleep();
+  }
+  ros::WallDuration(0.5).sleep();  // then no input: the sensor-stale fail-safe
+  command_sub.shutdown();
+  state_sub.shutdown();
+  input_sub.shutdown();
+
+  std::lock_guard<std::mutex> lc(cr.mutex);
+  std::lock_guard<std::mutex> ls(mutex);
+  ASSERT_EQ(inputs.size(), std::size_t(published)) << "only this test's arrays may reach the LightController";
+  for (const auto& a : inputs) ASSERT_TRUE(a->obstacles.size() == 1 && a->obstacles[0].id == 7);
+  std::map<ros::Time, LampCommand::ConstPtr> by_stamp;
+  std::size_t danger_commands = 0;
+  for (const auto& c : cr.commands) {
+    ASSERT_EQ(c->levels.size(), 8u) << "reason " << c->reason_text;
+    by_stamp[c->header.stamp] = c;
+    if (c->reason != LightState::REASON_DANGER) continue;
+    ++danger_commands;
+    EXPECT_EQ(c->levels, std::vector<float>(8, 1.0f)) << "a danger outside every segment lights all 8";
+  }
+  std::size_t compared = 0, danger_states = 0;
+  for (const auto& s : states) {
+    danger_states += s->reason == LightState::REASON_DANGER;
+    const auto it = by_stamp.find(s->header.stamp);
+    if (it == by_stamp.end()) continue;
+    ++compared;
+    if (!s->on) continue;
+    const auto& levels = it->second->levels;
+    EXPECT_TRUE(std::any_of(levels.begin(), levels.end(), [](float l) { return l > 0.0f; }))
+        << "lamp_cmd ON (" << s->reason_text << ") but LampCommand " << it->second->reason_text
+        << " with every level 0";
+  }
+  EXPECT_GT(danger_states, 10u) << "the binary lamp must be ON for the danger";
+  EXPECT_GT(danger_commands, 10u) << "the segmented lamp must be ON for the danger";
+  EXPECT_GT(compared, 20u);
 }
 
 }  // namespace
