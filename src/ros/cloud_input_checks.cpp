@@ -1,6 +1,7 @@
 #include "icanc/ros/cloud_input_checks.hpp"
 
 #include <limits>
+#include <sstream>
 
 #include <ros/console.h>
 
@@ -47,14 +48,23 @@ bool CloudInputChecks::stampValid(const ros::Time& stamp, InputMonitor& input) {
 }
 
 std::size_t CloudInputChecks::checkHealth(const RawCloud& raw, const DecodePlan& plan) {
-  const std::size_t valid = countValidReturns(raw, plan, health_.params());
+  const std::size_t valid = countValidReturns(raw, plan, health_.params(), &sector_counts_);
   const std::size_t points = static_cast<std::size_t>(raw.width) * raw.height;
   const bool was_blind = health_.blind();
-  if (health_.update(valid, points)) {
-    ROS_ERROR_THROTTLE_NAMED(1.0, log_name_, "[%s] sensor blind: %zu valid returns of %zu points "
-                             "(%.1f %% this frame, %.1f %% over the window): lamp on",
-                             log_name_.c_str(), valid, points, 100.0 * health_.frameShare(),
-                             100.0 * health_.windowShare());
+  if (health_.update(valid, points, sector_counts_)) {
+    if (health_.blindSector() >= 0) {
+      const double width = 360.0 / health_.params().sectors;
+      ROS_ERROR_THROTTLE_NAMED(1.0, log_name_, "[%s] sensor blind in azimuth %.0f..%.0f deg: %.1f %% "
+                               "of the returns it delivered when it saw the scene: lamp on",
+                               log_name_.c_str(), health_.blindSector() * width,
+                               (health_.blindSector() + 1) * width,
+                               100.0 * health_.blindSectorShare());
+    } else {
+      ROS_ERROR_THROTTLE_NAMED(1.0, log_name_, "[%s] sensor blind: %zu valid returns of %zu points "
+                               "(%.1f %% this frame, %.1f %% over the window): lamp on",
+                               log_name_.c_str(), valid, points, 100.0 * health_.frameShare(),
+                               100.0 * health_.windowShare());
+    }
   } else if (was_blind) {
     ROS_INFO_NAMED(log_name_, "[%s] sensor returns are back (%.1f %% this frame): not blind",
                    log_name_.c_str(), 100.0 * health_.frameShare());
@@ -64,7 +74,9 @@ std::size_t CloudInputChecks::checkHealth(const RawCloud& raw, const DecodePlan&
 
 void CloudInputChecks::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   if (health_.blind())
-    stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR, "sensor blind (lamp on)");
+    stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                      health_.blindSector() >= 0 ? "sensor blind in a sector (lamp on)"
+                                                 : "sensor blind (lamp on)");
   if (stamps_.rejected() > reported_rejected_)
     stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "cloud stamps rejected");
   reported_rejected_ = stamps_.rejected();
@@ -79,6 +91,14 @@ void CloudInputChecks::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat) 
   stat.add("sensor blind episodes", health_.blindEpisodes());
   stat.add("valid return share (last frame)", health_.frameShare());
   stat.add("valid return share (window)", health_.windowShare());
+  stat.add("sensor blind sector frames", health_.blindSectorFrames());
+  if (health_.blindSector() >= 0) {
+    const double width = 360.0 / health_.params().sectors;
+    std::ostringstream sector;
+    sector << health_.blindSector() * width << ".." << (health_.blindSector() + 1) * width << " deg";
+    stat.add("blind sector (azimuth)", sector.str());
+    stat.add("blind sector's share of its returns", health_.blindSectorShare());
+  }
 }
 
 }  // namespace icanc

@@ -3,6 +3,7 @@
 // graph answers.
 #pragma once
 
+#include <functional>
 #include <mutex>
 #include <random>
 #include <string>
@@ -104,9 +105,12 @@ class GraphFixture {
     }, timeout);
   }
 
-  // Renders the scene at scenario time t and publishes it stamped `stamp`.
-  void publishFrame(double t, const ros::Time& stamp) {
+  // Renders the scene at scenario time t and publishes it stamped `stamp`, after `edit` (when
+  // given) has changed the rendered cloud (in the sensor frame).
+  void publishFrame(double t, const ros::Time& stamp,
+                    const std::function<void(Cloud&)>& edit = nullptr) {
     sim::renderScan(scenario_.scene, t, scenario_.sensorPose(t), model_, scenario_.noise, rng_, scan_);
+    if (edit) edit(scan_);
     auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
     pcl::toROSMsg(scan_, *msg);
     msg->header.stamp = stamp;

@@ -7,7 +7,10 @@
 //   or 0.4 times the receipt clock (a sensor clock running fast or slow), once a second shows it;
 // - clouds with no valid return (all NaN, all (0, 0, 0), all out of range: a covered LiDAR): the
 //   arrays say sensor_blind, the lamp is ON with REASON_SENSOR_BLIND, both nodelets' diagnostics
-//   say ERROR; the lamp goes OFF again once the returns come back.
+//   say ERROR; the lamp goes OFF again once the returns come back;
+// - a sensor half covered (the right half of its field of view NaN, on a cover 0.3 m away, or
+//   dropped from the message): the rest of the frame is a clear road, but that sector is blind;
+// - (zero_health_shares.test) shares of 0, which would switch the blind check off: refused.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
@@ -221,6 +224,71 @@ TEST_F(DarkPaths, BlindSensorLightsTheLampWithItsReason) {
       EXPECT_FALSE(g_.recorder().arrays.back()->sensor_blind);
       EXPECT_GT(g_.recorder().arrays.back()->valid_points, 1000u);
     }
+  }
+}
+
+// zero_health_shares.test: sensor_health/min_frame_share and min_window_share 0 would never call
+// the sensor blind (an all-NaN cloud: lamp off, diagnostics OK). The ObstacleDetector refuses
+// them at load: it never subscribes, so the LightController's watchdog keeps the lamp ON.
+TEST_F(DarkPaths, ZeroHealthSharesAreRefusedAndTheLampStaysOn) {
+  ASSERT_TRUE(waitFor([&] { return lastState() != nullptr; }, 30.0)) << "no light_state";
+  ros::Time stamp = ros::Time::now();
+  const std::string frame = g_.scenario().sensor_frame;
+  stream(20, [&](int) {
+    g_.publishRaw(blindCloud(frame, stamp += ros::Duration(0.1), std::numeric_limits<float>::quiet_NaN()));
+  });
+  EXPECT_TRUE(lampOnLately(LightState::REASON_SENSOR_STALE, 1.5));
+  std::lock_guard<std::mutex> l(g_.recorder().mutex);
+  EXPECT_TRUE(g_.recorder().arrays.empty()) << "the ObstacleDetector ran with the blind check off";
+}
+
+// The right half of the Zebra's forward field of view (azimuth -60..0 deg) covered.
+TEST_F(DarkPaths, HalfCoveredSensorLightsTheLamp) {
+  ASSERT_TRUE(g_.waitForGraph());
+  ros::Time stamp = ros::Time::now();
+  settleOff(stamp);
+  using Diag = diagnostic_msgs::DiagnosticStatus;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const auto covered = [](const Point& p) { return p.y < 0.0f && p.x > 0.0f; };
+  struct Case {
+    const char* what;
+    std::function<void(Cloud&)> edit;
+  };
+  const std::vector<Case> cases = {
+      {"NaN", [&](Cloud& c) { for (Point& p : c) if (covered(p)) p.x = p.y = p.z = nan; }},
+      {"on a cover 0.3 m away", [&](Cloud& c) {
+         for (Point& p : c)
+           if (covered(p)) p.getVector3fMap() *= 0.3f / p.getVector3fMap().norm();
+       }},
+      {"dropped", [&](Cloud& c) {
+         Cloud kept;
+         for (const Point& p : c)
+           if (!covered(p)) kept.push_back(p);  // unorganized: height 1, every point valid
+         c = kept;
+       }},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    clearLevels();
+    const long before = std::max(0L, counter("sensor blind sector frames"));
+    ros::Time last;
+    // 2.5 s: a cover that returns is blind once the window (10 frames) says it lasts.
+    stream(25, [&](int) { g_.publishFrame(0.2, last = (stamp += ros::Duration(0.1)), c.edit); });
+    ASSERT_TRUE(waitFor([&] { return answerTo(last) != nullptr; }, 5.0)) << "covered frames unanswered";
+    const LightState::ConstPtr s = answerTo(last);
+    EXPECT_TRUE(s->on);
+    EXPECT_EQ(s->reason, LightState::REASON_SENSOR_BLIND);
+    EXPECT_TRUE(lampOnLately(LightState::REASON_SENSOR_BLIND, 1.0));
+    {
+      std::lock_guard<std::mutex> l(g_.recorder().mutex);
+      ASSERT_FALSE(g_.recorder().arrays.empty());
+      EXPECT_TRUE(g_.recorder().arrays.back()->sensor_blind);
+      EXPECT_GT(g_.recorder().arrays.back()->valid_points, 1000u) << "half the frame still returns";
+    }
+    EXPECT_TRUE(waitFor([&] { return levelSeen("obstacle detector", Diag::ERROR, "sensor blind in a sector"); }, 3.0))
+        << "no ERROR 'sensor blind in a sector' in the detector's diagnostics";
+    EXPECT_TRUE(waitFor([&] { return counter("sensor blind sector frames") >= before + 10; }, 3.0));
+    settleOff(stamp);
   }
 }
 

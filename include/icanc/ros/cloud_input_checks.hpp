@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 #include <ros/time.h>
@@ -42,6 +43,7 @@ class CloudInputChecks {
   std::string log_name_;
   StampCheck stamps_;
   SensorHealth health_;
+  SectorReturns sector_counts_;  // returns per azimuth sector, this frame
   ros::WallTime logged_[kStampVerdicts];
   std::uint64_t reported_rejected_ = 0;
 };
