@@ -211,6 +211,13 @@ TEST_F(BadInput, MalformedMatrix) {
        [](sensor_msgs::PointCloud2& m) { m.width = 0; }},
       {"zero height", "empty cloud", "invalid clouds: empty cloud",
        [](sensor_msgs::PointCloud2& m) { m.height = 0; }},
+      // A second x (here at z's offset): which one is the coordinate is unknown, so neither wins.
+      {"a second field named x", "two fields named x", "invalid clouds: two fields named x",
+       [](sensor_msgs::PointCloud2& m) {
+         sensor_msgs::PointField second = m.fields[2];
+         second.name = "x";
+         m.fields.push_back(second);
+       }},
       {"2,000,001 points", "more points than the configured maximum", "invalid clouds: more points",
        [](sensor_msgs::PointCloud2& m) {
          sensor_msgs::PointCloud2Modifier mod(m);
