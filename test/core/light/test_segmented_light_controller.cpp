@@ -178,9 +178,12 @@ TEST(SegmentedLightController, NeverDarkerThanTheBinaryLamp) {
         seg.tick(t);
       }
       const std::vector<float> levels = seg.levels();
-      if (binary.on()) ASSERT_FALSE(lit(seg).empty()) << "step " << i << ": binary ON, every segment dark";
-      if (binary.on() && binary.reason() != LightReason::kDanger)
+      if (binary.on()) {
+        ASSERT_FALSE(lit(seg).empty()) << "step " << i << ": binary ON, every segment dark";
+      }
+      if (binary.on() && binary.reason() != LightReason::kDanger) {
         ASSERT_EQ(levels, std::vector<float>(8, 1.0f)) << "step " << i << ": fail-safe not full";
+      }
       ASSERT_EQ(binary.on(), seg.binaryLamp().on()) << "step " << i;
       danger_steps += binary.on() && binary.reason() == LightReason::kDanger;
     }
