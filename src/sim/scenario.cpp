@@ -184,8 +184,11 @@ MeasuredTwist canTwist(const Scenario& s, double t, std::mt19937_64& rng) {
   constexpr double kScale = 1.01, kSpeedNoiseMps = 0.05, kGyroBiasRadS = 0.003, kGyroNoiseRadS = 0.01;
   std::normal_distribution<double> noise(0.0, 1.0);
   const EgoTwist truth = s.vehicleTwist(t);
-  const double speed = kScale * truth.linear.x() + kSpeedNoiseMps * noise(rng);
-  return measuredTwist(speed, truth.yaw_rate + kGyroBiasRadS + kGyroNoiseRadS * noise(rng));
+  const double speed_noise = noise(rng), gyro_noise = noise(rng);
+  // Wheels that stand still turn no encoder: the wheel speed reads exactly zero at rest.
+  const double speed =
+      truth.linear.x() == 0.0f ? 0.0 : kScale * truth.linear.x() + kSpeedNoiseMps * speed_noise;
+  return measuredTwist(speed, truth.yaw_rate + kGyroBiasRadS + kGyroNoiseRadS * gyro_noise);
 }
 
 Eigen::Vector3f Scenario::vehicleVelocity(double t) const {

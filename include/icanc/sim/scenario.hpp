@@ -55,7 +55,8 @@ struct Scenario {
 };
 
 // The vehicle's motion at t as its CAN bus reports it (icanc_sim_bag's /vehicle/twist, kCanTwistHz):
-// the wheel speed 1 % over (a tyre's rolling radius is never the nominal one) with 0.05 m/s noise,
+// the wheel speed 1 % over (a tyre's rolling radius is never the nominal one) with 0.05 m/s noise
+// while the wheels turn and exactly zero while they stand,
 // the stability control's yaw rate with a 0.003 rad/s bias and 0.01 rad/s noise. Two draws of rng.
 constexpr double kCanTwistHz = 50.0;
 MeasuredTwist canTwist(const Scenario& s, double t, std::mt19937_64& rng);

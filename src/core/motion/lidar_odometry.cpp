@@ -200,6 +200,10 @@ void LidarOdometry::beginFrame(Thinning thinning) {
 }
 
 namespace {
+
+// A measured wheel speed below this is wheels that stand (an encoder's resolution) [m/s].
+constexpr double kWheelsStandMps = 0.01;
+
 // `n` of `from` (n <= size), evenly over the scan order so that every direction keeps points,
 // appended to `to`.
 void appendThinned(const std::vector<Eigen::Vector3f>& from, std::size_t n,
@@ -779,7 +783,12 @@ Eigen::Isometry3d LidarOdometry::finishFrame(double stamp_s, double downsample_s
   // registration or the prior stays. Not where a degenerate frame has a measured twist: the twist
   // says how it moved.
   const RestTest rest = registered || !seeded ? testRest() : RestTest();
-  const bool at_rest = rest.still_fits && (at_rest_ || rest.prior_ruled_out);
+  // Wheels that stood at both ends of the frame's interval: at rest, whatever the registration
+  // makes of a scene that fixes no motion well (an encoder counts no ticks while they stand).
+  const bool wheels_stand = seeded && has_last_seed_ &&
+                            std::abs(seed_.forward_mps) < kWheelsStandMps &&
+                            std::abs(last_seed_.forward_mps) < kWheelsStandMps;
+  const bool at_rest = wheels_stand || (rest.still_fits && (at_rest_ || rest.prior_ruled_out));
   // A frame degenerate only for its weak horizontal direction whose prior carries a motion that
   // the scan rules out (the vehicle braked, or the prior came from a poor registration) takes the
   // registration's fit instead of carrying the prior on. A prior of no motion stays: the rest

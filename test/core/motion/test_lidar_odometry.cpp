@@ -432,6 +432,32 @@ TEST(LidarOdometry, StandsStillWhereTheSceneIsDegenerate) {
   EXPECT_GE(odometry.counters().at_rest, 28u);
 }
 
+TEST(LidarOdometry, StandsStillWhereTheWheelsStand) {
+  // The same corridor and car with the wheel speed throughout: 3 m/s, then exactly 0 once the
+  // wheels stand (and a gyro's bias). From the second standing frame on, every frame is at rest
+  // with no motion at all, however the registration would have jittered.
+  const double stop_s = 1.0, speed = 3.0;
+  const sim::Scene scene = corridorBehindACar(speed * stop_s);
+  LidarOdometry odometry(testParams());
+  std::mt19937_64 rng(24);
+  Eigen::Isometry3d held = Eigen::Isometry3d::Identity();
+  for (int f = 0; f <= 30; ++f) {
+    const double t = 0.1 * f;
+    const Eigen::Isometry3d truth = stopAt(t, speed, stop_s);
+    odometry.seedTwist(measuredTwist(t < stop_s - 1e-9 ? speed : 0.0, 0.003));
+    const Eigen::Isometry3d estimate = odometry.registerFrame(t, scanAt(scene, t, truth, rng));
+    if (f > 0 && t < stop_s - 1e-9) {
+      EXPECT_NE(odometry.lastStats().result, LidarOdometryStats::Result::kAtRest) << "frame " << f;
+    }
+    if (t > stop_s + 0.15) {
+      EXPECT_EQ(odometry.lastStats().result, LidarOdometryStats::Result::kAtRest) << "frame " << f;
+      EXPECT_EQ(odometry.linearVelocity().norm(), 0.0) << "frame " << f;
+      EXPECT_TRUE(estimate.isApprox(held, 0.0)) << "frame " << f << ": the pose moved";
+    }
+    held = estimate;
+  }
+}
+
 TEST(LidarOdometry, MovingIsNotAtRest) {
   // The same corridor and car, driven toward at 3 m/s without a wheel speed, and the street at up
   // to 8 m/s: the scan never fits "no motion" (the street's first frame, 2 cm from the start, may).

@@ -252,7 +252,8 @@ class LidarOdometry {
   // had one. Registered frames are as without it. Without a yaw rate (NaN), a frame that slid
   // along one horizontal direction only (walls along the road) is registered in the other five
   // with the translation along it held at the measured speed's (Result::kHeld): the turn from the
-  // walls. A non-finite speed: no seed.
+  // walls. A speed of zero in this seed and the previous frame's is the vehicle at rest
+  // (Result::kAtRest) whatever the registration says. A non-finite speed: no seed.
   void seedTwist(const MeasuredTwist& twist);
 
   const Eigen::Isometry3d& pose() const { return pose_; }
