@@ -1,9 +1,12 @@
 // rostest: messages between the icanc nodelets travel as shared ConstPtrs. A probe nodelet in the
 // same manager (zero_copy_probe.cpp) compares the address of every object it receives with the
-// address the publishing nodelet traced on ~publish_trace.
+// address the publishing nodelet traced on ~publish_trace. zero_copy_driver_manager.test: the same
+// with every nodelet loaded into a manager started outside icanc.launch (a LiDAR driver's).
+#include <algorithm>
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <nodelet/NodeletList.h>
 #include <std_msgs/String.h>
 
 #include "graph_fixture.hpp"
@@ -58,6 +61,24 @@ TEST(ZeroCopy, ProbeInTheManagerReceivesThePublishersOwnObjects) {
     EXPECT_GE(counts[topic].received, 25u) << topic;
     EXPECT_EQ(counts[topic].same, counts[topic].received) << topic << ": copies were delivered";
   }
+}
+
+// The nodelets run in the manager named by the test's ~manager (icanc.launch's own by default, or
+// a LiDAR driver's with manager:=/driver_manager, where icanc.launch starts none of its own).
+TEST(ZeroCopy, NodeletsRunInTheNamedManager) {
+  ros::NodeHandle private_nh("~");
+  std::string manager = "/icanc/icanc_manager";
+  private_nh.getParam("manager", manager);
+  ASSERT_TRUE(ros::service::waitForService(manager + "/list", ros::Duration(30.0)));
+  nodelet::NodeletList list;
+  ASSERT_TRUE(ros::service::call(manager + "/list", list));
+  for (const char* name : {"/icanc/obstacle_detector", "/icanc/danger_detector", "/icanc/light_controller"})
+    EXPECT_NE(std::find(list.response.nodelets.begin(), list.response.nodelets.end(), name),
+              list.response.nodelets.end()) << name << " not in " << manager;
+  ros::V_string nodes;
+  ASSERT_TRUE(ros::master::getNodes(nodes));
+  const bool own = std::find(nodes.begin(), nodes.end(), "/icanc/icanc_manager") != nodes.end();
+  EXPECT_EQ(own, manager == "/icanc/icanc_manager") << "icanc.launch's own manager is running: " << own;
 }
 
 }  // namespace
