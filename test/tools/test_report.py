@@ -20,13 +20,26 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 SCENARIO = os.path.join(ROOT, "config", "scenarios", "pedestrian_near_toward.yaml")
 
 
-def tool(name):
-    """A tool of the devel space this environment sources (CMAKE_PREFIX_PATH), else build/'s."""
+def devel():
+    """The devel space this environment sources (CMAKE_PREFIX_PATH), else build/'s."""
     for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(":") + [os.path.join(ROOT, "build", "devel")]:
-        path = os.path.join(prefix, "lib", "icanc", name)
-        if prefix and os.access(path, os.X_OK):
-            return path
-    raise RuntimeError("no %s: build first (scripts/build) and source devel/setup.bash" % name)
+        if prefix and os.access(os.path.join(prefix, "lib", "icanc", "icanc_sim_bag"), os.X_OK):
+            return prefix
+    raise RuntimeError("no icanc tools: build first (scripts/build) and source devel/setup.bash")
+
+
+def tool(name):
+    return os.path.join(devel(), "lib", "icanc", name)
+
+
+def report_env():
+    """This environment with the devel space's Python packages (icanc.msg) first on PYTHONPATH:
+    catkin's cached environment, which run_tests uses, names the folder only if it existed when
+    CMake first ran, and on a fresh build it did not."""
+    env = dict(os.environ)
+    python = os.path.join(devel(), "lib", "python3", "dist-packages")
+    env["PYTHONPATH"] = os.pathsep.join(p for p in [python, env.get("PYTHONPATH", "")] if p)
+    return env
 
 
 class Page(html.parser.HTMLParser):
@@ -65,7 +78,7 @@ class TestReport(unittest.TestCase):
         subprocess.check_call([tool("icanc_sim_bag"), SCENARIO, bag], stdout=subprocess.DEVNULL)
         cls.result = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "report.py"), bag, cls.out,
                                   "--vehicle", "zebra"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                 universal_newlines=True, timeout=600)
+                                 universal_newlines=True, timeout=600, env=report_env())
         print(cls.result.stdout[-3000:])
         cls.page = Page()
         index = os.path.join(cls.out, "index.html")
