@@ -391,22 +391,14 @@ def motion_state(o):
     return motion_state_names(o).get(o.motion_state, str(o.motion_state))
 
 
-def ego_pose(vx, vy, w, t, cap):
-    """The vehicle's pose after t at body velocity (vx, vy) and yaw rate w, the turn ending after a
-    heading change of cap (0: never), as icanc's predictEgoPose: (x, y, yaw)."""
-    def turn(t):
-        yaw = w * t
-        if abs(yaw) < 1e-9:
-            return vx * t, vy * t, yaw
-        s, c = math.sin(yaw), math.cos(yaw)
-        return (vx * s + vy * (c - 1.0)) / w, (vx * (1.0 - c) + vy * s) / w, yaw
-    if cap <= 0 or abs(w * t) <= cap:
-        return turn(t)
-    t_turn = cap / abs(w)
-    x, y, yaw = turn(t_turn)
-    c, s = math.cos(yaw), math.sin(yaw)
-    d = t - t_turn
-    return x + (c * vx - s * vy) * d, y + (s * vx + c * vy) * d, yaw
+def ego_pose(vx, vy, w, t):
+    """The vehicle's pose after t at body velocity (vx, vy) and yaw rate w, as icanc's
+    predictEgoPose: (x, y, yaw)."""
+    yaw = w * t
+    if abs(yaw) < 1e-9:
+        return vx * t, vy * t, yaw
+    s, c = math.sin(yaw), math.cos(yaw)
+    return (vx * s + vy * (c - 1.0)) / w, (vx * (1.0 - c) + vy * s) / w, yaw
 
 
 def quads_overlap(a, b):
@@ -445,7 +437,7 @@ def predicted_ttc(o, ego_twist, danger, with_uncertainty):
         k = danger["velocity_std_k"] if with_uncertainty else 0.0
         grow_x = danger["footprint_margin"] + min(k * sx * t, danger["uncertainty_cap"])
         grow_y = danger["footprint_margin"] + min(k * sy * t, danger["uncertainty_cap"])
-        ex, ey, yaw = ego_pose(vx, vy, w, t, danger["max_heading_change"])
+        ex, ey, yaw = ego_pose(vx, vy, w, t)
         c, s = math.cos(-yaw), math.sin(-yaw)
         box = []
         for x, y in ((o.aabb_min.x, o.aabb_min.y), (o.aabb_max.x, o.aabb_min.y),
@@ -694,7 +686,6 @@ def draw_bev(path, ctx, t_ns, title, highlight):
     else:  # the corridor swept along the vehicle's twist over the reaction time
         v = math.hypot(arr.ego_twist.linear.x, arr.ego_twist.linear.y)
         wz = arr.ego_twist.angular.z
-        cap = d["max_heading_change"]
         if v > 0.1 and arr.ego_twist.linear.x > 0:
             left, right = [], []
             x = y = h = 0.0
@@ -704,7 +695,7 @@ def draw_bev(path, ctx, t_ns, title, highlight):
                 for side, lst in ((1, left), (-1, right)):
                     lst.append((x + length * math.cos(h) - side * w * math.sin(h),
                                 y + length * math.sin(h) + side * w * math.cos(h)))
-                turn = wz * dt if (cap <= 0 or abs(h) < cap) else 0.0
+                turn = wz * dt
                 x += v * dt * math.cos(h)
                 y += v * dt * math.sin(h)
                 h += turn
@@ -797,15 +788,15 @@ def render(args, out, profile_path, profile, binfo):
     danger = {"model": model, "half_width": dd.get("half_width_m", 0.7), "reaction_time": dd.get("reaction_time_s", 3.0),
               "margin": pr.get("margin_m", 0.3), "front": pr.get("vehicle_front_m", 0.5),
               "stopping": pr.get("stopping_margin_m", 1.0), "footprint_margin": pr.get("footprint_margin_m", 0.0),
-              "max_heading_change": pr.get("max_heading_change_rad", 0.0),
               "static_prior_k": pr.get("static_prior_k", 0.0), "time_step": pr.get("time_step_s", 0.05),
               "velocity_std_k": pr.get("velocity_std_k", 1.0), "uncertainty_cap": pr.get("uncertainty_cap_m", 0.5),
               "off_frames": pr.get("off_frames", 2)}
     lc = get(profile, "light_controller", default={}) or {}
     segments = lc.get("segments") or []
     prep = get(profile, "obstacle_detector", "prep", default={}) or {}
-    roi = (prep.get("roi_min", [-5, -20, 0]), prep.get("roi_max", [40, 20, 0]))
-    ego_min, ego_max = prep.get("ego_min", [-0.5, -0.4, 0]), prep.get("ego_max", [0.5, 0.4, 0])
+    # A key the profile leaves out takes icanc's default (docs/parameters.md), as the nodelets do.
+    roi = (prep.get("roi_min", [-20, -20, -3]), prep.get("roi_max", [60, 20, 3]))
+    ego_min, ego_max = prep.get("ego_min", [-1, -1, -3]), prep.get("ego_max", [1, 1, 3])
     lamp_ns = [c.header.stamp.to_nsec() for c in lamp_cmds]
 
     def lamp_at(t):
@@ -818,7 +809,7 @@ def render(args, out, profile_path, profile, binfo):
            "ego_box": (ego_min[0], ego_min[1], ego_max[0], ego_max[1]),
            "lamp_position": lc.get("lamp_position_m", [0, 0, 0]), "points": points,
            "root_T": transforms(binfo["static_tf"]),
-           "ego_source": meta.get("ego_motion_source") or get(profile, "ego_motion", "source", default="?")}
+           "ego_source": meta.get("ego_motion_source") or get(profile, "ego_motion", "source", default="none")}
     if has_truth:
         ctx["truth_spans"] = truth_intervals(frame_ns, truth, period)
         ctx["perfect"] = perfect_lamp(frame_ns, truth, lc.get("tau_s", 3.0), lc.get("recheck_below_s", 1.0), t_end)

@@ -90,7 +90,6 @@ ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego
   k.velocity_std = Eigen::Vector2d(o.velocity_std_axes.x, o.velocity_std_axes.y);
   k.ego_velocity = Eigen::Vector2d(ego_twist.linear.x, ego_twist.linear.y);
   k.ego_yaw_rate = ego_twist.angular.z;
-  k.hits = o.hits;
   k.motion = o.motion_state == Obstacle::MOTION_STATIC   ? MotionState::kStatic
              : o.motion_state == Obstacle::MOTION_MOVING ? MotionState::kMoving
                                                          : MotionState::kUnknown;

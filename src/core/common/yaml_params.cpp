@@ -97,8 +97,12 @@ Profile loadProfile(const std::string& path) {
   readSection(root, path, "danger_detector", p.danger);
   readSection(root, path, "light_controller", p.light);
   readSection(root, path, "light_controller", p.lamp);
+  // The truth's corridor is the danger detector's unless the ground_truth section says otherwise.
   p.corridor.half_width_m = p.danger.half_width_m;
   p.corridor.horizon_s = p.danger.reaction_time_s;
+  p.corridor.margin_m = p.danger.margin_m;
+  p.corridor.vehicle_front_m = p.danger.vehicle_front_m;
+  p.corridor.stopping_margin_m = p.danger.stopping_margin_m;
   readSection(root, path, "ground_truth", p.corridor);
   readSection(root, path, "illumination_monitor", p.illumination);
   readSection(root, path, "lidar_odometry", p.lidar_odometry);

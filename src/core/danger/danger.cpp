@@ -60,11 +60,6 @@ std::string validate(const DangerParams& params) {
     why << "danger.static_clearance_m must be in [0, 5] m (got " << params.static_clearance_m << ")";
   else if (!(params.footprint_margin_m >= 0.0))
     why << "danger.footprint_margin_m must be >= 0 (got " << params.footprint_margin_m << ")";
-  else if (!(params.max_heading_change_rad >= 0.0 && params.max_heading_change_rad <= M_PI))
-    why << "danger.max_heading_change_rad must be in [0, pi] (0: no cap; got "
-        << params.max_heading_change_rad << ")";
-  else if (params.motion_min_hits < 0 || params.motion_min_hits > 1000)
-    why << "danger.motion_min_hits must be in [0, 1000] (0: off; got " << params.motion_min_hits << ")";
   else if (!(params.time_step_s > 0.0 && params.time_step_s <= params.reaction_time_s))
     why << "danger.time_step_s must be in (0, reaction_time_s] (got " << params.time_step_s << ")";
   else if (params.on_frames < 1)
@@ -117,22 +112,16 @@ double staticPriorShrink(double v, double t) {
   return std::abs(v) > t ? v * (1.0 - (t / v) * (t / v)) : 0.0;
 }
 
-bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params) {
-  return object.motion == MotionState::kUnknown && object.hits > 0 &&
-         object.hits < static_cast<std::uint32_t>(std::max(0, params.motion_min_hits));
-}
-
 namespace {
 
 // The vehicle s metres along the planner's path; beyond its end (a path shorter than the reaction
 // time's reach, a recording's last seconds) on from its end at the twist's turn rate, as the
 // vehicle would go without a path.
-PlanarPose alongPath(const EgoPath& path, const Eigen::Vector2d& ego_v, double ego_w, double s,
-                     const DangerParams& params) {
+PlanarPose alongPath(const EgoPath& path, const Eigen::Vector2d& ego_v, double ego_w, double s) {
   if (s <= path.length()) return path.at(s);
   const PlanarPose end = path.at(path.length());
   const PlanarPose beyond =
-      predictEgoPose(ego_v, ego_w, (s - path.length()) / ego_v.norm(), params.max_heading_change_rad);
+      predictEgoPose(ego_v, ego_w, (s - path.length()) / ego_v.norm());
   PlanarPose pose;
   pose.position = end.position + Eigen::Rotation2Dd(end.yaw) * beyond.position;
   pose.yaw = end.yaw + beyond.yaw;
@@ -170,9 +159,9 @@ double predictedTimeToCorridor(const ObjectKinematics& object, const DangerParam
     const double grow_y = params.footprint_margin_m +
                           std::min(params.velocity_std_k * sigma_y * t, params.uncertainty_cap_m);
     // Where the vehicle will be, and the object's displacement seen from there.
-    const PlanarPose ego = path ? (t > 0.0 ? alongPath(*path, ego_v, ego_w, speed * t, params)
+    const PlanarPose ego = path ? (t > 0.0 ? alongPath(*path, ego_v, ego_w, speed * t)
                                            : PlanarPose())
-                                : predictEgoPose(ego_v, ego_w, t, params.max_heading_change_rad);
+                                : predictEgoPose(ego_v, ego_w, t);
     const Eigen::Rotation2Dd to_future(-ego.yaw);
     const Eigen::Vector2d shift = ground_v * t - ego.position;
     // The corridor grown by the uncertainty against the moved parts: the axis-aligned box first,
@@ -226,10 +215,6 @@ DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams
       mean.velocity_std_k = 0.0;
       a.mean_time_to_corridor_s = predictedTimeToCorridor(object, mean);
     }
-    // A young track's prediction is not evidence yet: only what is in the corridor or about to
-    // enter it, within immediate_ttc_s, counts.
-    if (isYoungTrack(object, params) && a.time_to_corridor_s > params.immediate_ttc_s)
-      a.time_to_corridor_s = a.mean_time_to_corridor_s = -1.0;
     a.dangerous = a.time_to_corridor_s >= 0.0;
   } else {
     // The sections split the frontal field of view: what lies wholly behind the vehicle origin is

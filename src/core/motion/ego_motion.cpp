@@ -191,14 +191,4 @@ PlanarPose predictEgoPose(const Eigen::Vector2d& v, double w, double t) {
   return p;
 }
 
-PlanarPose predictEgoPose(const Eigen::Vector2d& v, double w, double t,
-                          double max_heading_change_rad) {
-  if (!(max_heading_change_rad > 0.0) || std::abs(w * t) <= max_heading_change_rad)
-    return predictEgoPose(v, w, t);
-  const double t_turn = max_heading_change_rad / std::abs(w);
-  PlanarPose p = predictEgoPose(v, w, t_turn);
-  p.position += Eigen::Rotation2Dd(p.yaw) * v * (t - t_turn);
-  return p;
-}
-
 }  // namespace icanc

@@ -4,9 +4,16 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <iterator>
+#include <map>
+#include <set>
+#include <sstream>
+
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
+#include "icanc/core/common/param_keys.hpp"
 #include "icanc/core/common/yaml_params.hpp"
 
 namespace icanc {
@@ -50,13 +57,13 @@ TEST(Profiles, ShippedProfilesCarryThePapersValues) {
   EXPECT_DOUBLE_EQ(kitti.danger.footprint_margin_m, 0.3);
   EXPECT_DOUBLE_EQ(zebra.danger.footprint_margin_m, 0.0);
   EXPECT_DOUBLE_EQ(carla.danger.footprint_margin_m, 0.05);
-  // Where each profile's target frame has the road (issue 22): base_link on it, KITTI's
+  // Where each profile's target frame has the road: base_link on it, KITTI's
   // velodyne frame 1.73 m above it.
   EXPECT_FLOAT_EQ(zebra.detector.ground.expected_height_m, 0.0f);
   EXPECT_FLOAT_EQ(carla.detector.ground.expected_height_m, 0.0f);
   EXPECT_FLOAT_EQ(kitti.detector.ground.expected_height_m, -1.73f);
   for (const Profile* p : {&zebra, &carla, &kitti}) {
-    // The paper's single lamp (issue 23: segments [] = one segment, every direction).
+    // The paper's single lamp (segments [] = one segment, every direction).
     EXPECT_TRUE(p->lamp.segments.empty());
     EXPECT_EQ(effectiveSegments(p->lamp).size(), 1u);
     EXPECT_DOUBLE_EQ(p->lamp.segment_margin_deg, 2.0);
@@ -113,6 +120,123 @@ TEST(Profiles, BadValueNamesFileAndKey) {
                 "segments[0].low_watts", "a low beam with dimming");
   expectRefused(path, "light_controller:\n  min_level: 0\n", "min_level", "a zero dimming floor");
   std::remove(path.c_str());
+}
+
+// Every value loadProfile reads, as text, by "section/key" (the visitParams keys).
+class ProfileDump {
+ public:
+  explicit ProfileDump(Profile p) {
+    section_ = "obstacle_detector/";
+    visitParams(*this, p.detector);
+    section_ = "danger_detector/";
+    visitParams(*this, p.danger);
+    section_ = "light_controller/";
+    visitParams(*this, p.light);
+    visitParams(*this, p.lamp);
+    section_ = "ground_truth/";
+    visitParams(*this, p.corridor);
+    section_ = "illumination_monitor/";
+    visitParams(*this, p.illumination);
+    section_ = "lidar_odometry/";
+    visitParams(*this, p.lidar_odometry);
+  }
+  template <class T>
+  void operator()(const std::string& key, T& value) {
+    std::ostringstream text;
+    text << value;
+    values_[section_ + key] = text.str();
+  }
+  void operator()(const std::string& key, Eigen::Vector3f& v) {
+    (*this)(key + "/x", v.x());
+    (*this)(key + "/y", v.y());
+    (*this)(key + "/z", v.z());
+  }
+  void operator()(const std::string& key, std::vector<LampSegment>& segments) {
+    values_[section_ + key] = std::to_string(segments.size()) + " segments";
+  }
+  const std::map<std::string, std::string>& values() const { return values_; }
+  bool hasKey(const std::string& key) const {
+    return values_.count(key) || values_.count(key + "/x");
+  }
+
+ private:
+  std::string section_;
+  std::map<std::string, std::string> values_;
+};
+
+// The leaves of a YAML map as "a/b/c" paths.
+void leaves(const YAML::Node& node, const std::string& prefix, std::vector<std::string>& out) {
+  for (const auto& kv : node) {
+    const std::string path = prefix + kv.first.as<std::string>();
+    if (kv.second.IsMap())
+      leaves(kv.second, path + "/", out);
+    else
+      out.push_back(path);
+  }
+}
+
+// The profile's YAML without one leaf, written to `path`.
+void writeWithout(const std::string& profile, const std::string& leaf, const std::string& path) {
+  YAML::Node root = YAML::LoadFile(profile);
+  std::istringstream parts(leaf);
+  std::vector<std::string> names;
+  for (std::string part; std::getline(parts, part, '/');) names.push_back(part);
+  std::vector<YAML::Node> chain{root};
+  for (std::size_t i = 0; i + 1 < names.size(); ++i) chain.push_back(chain.back()[names[i]]);
+  chain.back().remove(names.back());
+  std::ofstream(path) << root;
+}
+
+// A profile holds what a vehicle must set and what differs from the code's defaults, nothing
+// else: every key loadProfile reads that a profile sets changes what it loads (the detector and
+// the danger model are named as choices either way), and each profile stays within 40 keys (the
+// frames and the ego-motion source read by the nodelets included).
+TEST(Profiles, ShippedProfilesSetOnlyWhatDiffersFromTheDefaults) {
+  const ProfileDump defaults{Profile()};
+  const std::string scratch =
+      ::testing::TempDir() + "icanc_profile_without_" + std::to_string(::getpid()) + ".yaml";
+  for (const char* name : {"zebra.yaml", "carla_model3.yaml", "kitti_hdl64e.yaml"}) {
+    const std::string path = configDir() + name;
+    const ProfileDump full{loadProfile(path)};
+    std::vector<std::string> keys;
+    leaves(YAML::LoadFile(path), "", keys);
+    EXPECT_LE(keys.size(), 40u) << name;
+    int read_by_load = 0;
+    for (const std::string& key : keys) {
+      if (!defaults.hasKey(key)) continue;  // a nodelet's own key (frames, topics, ego_motion)
+      if (key == "obstacle_detector/method" || key == "danger_detector/model") continue;  // choices
+      ++read_by_load;
+      writeWithout(path, key, scratch);
+      EXPECT_NE(ProfileDump(loadProfile(scratch)).values(), full.values())
+          << name << ": " << key << " is the code's default, leave it out";
+    }
+    EXPECT_GT(read_by_load, 10) << name;
+  }
+  std::remove(scratch.c_str());
+}
+
+// docs/parameters.md (the LiDAR odometry's in docs/lidar_odometry.md) names every key.
+TEST(Profiles, TheParameterReferenceNamesEveryKey) {
+  const std::string docs = configDir() + "../docs/";
+  std::string text;
+  for (const char* file : {"parameters.md", "lidar_odometry.md"}) {
+    std::ifstream in(docs + file);
+    ASSERT_TRUE(in) << docs + file;
+    text += std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::set<std::string> missing;
+  const ProfileDump defaults{Profile()};
+  for (const auto& kv : defaults.values()) {
+    std::string key = kv.first.substr(kv.first.find('/') + 1);
+    for (const char* axis : {"/x", "/y", "/z"})
+      if (key.size() > 2 && key.compare(key.size() - 2, 2, axis) == 0) key.resize(key.size() - 2);
+    const std::string leaf = key.substr(key.rfind('/') + 1);
+    const std::string full = kv.first.substr(0, kv.first.find('/') + 1) + key;
+    if (text.find("`" + full + "`") == std::string::npos && text.find("`" + key + "`") == std::string::npos &&
+        text.find("`" + leaf + "`") == std::string::npos)
+      missing.insert(kv.first);
+  }
+  EXPECT_TRUE(missing.empty()) << "not in docs/parameters.md: " << ::testing::PrintToString(missing);
 }
 
 }  // namespace

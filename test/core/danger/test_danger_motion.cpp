@@ -87,16 +87,6 @@ TEST(DangerMotion, SweptPathFollowsTheTurn) {
   EXPECT_LT(sweptPathTimeToReach(left, roadCar()), 0.0);
 }
 
-TEST(DangerMotion, YoungTrackGateOnlyForUnknownMotion) {
-  DangerParams p = roadCar();
-  p.motion_min_hits = 5;
-  ObjectKinematics o = box(8.0, 9.0, 2.5, 3.0, MotionState::kMoving, Eigen::Vector2d(0.0, -2.0));
-  o.hits = 2;
-  EXPECT_FALSE(isYoungTrack(o, p));  // free space says it moves: trusted from its first frames
-  o.motion = MotionState::kUnknown;
-  EXPECT_TRUE(isYoungTrack(o, p));
-}
-
 TEST(DangerMotion, ClearanceIsValidated) {
   DangerParams p = roadCar();
   EXPECT_EQ(validate(p), "");

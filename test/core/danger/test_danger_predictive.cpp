@@ -305,42 +305,7 @@ TEST(DangerPredictiveEgoPath, ATurnedPartIsTestedAsARectangleNotByItsBounds) {
   EXPECT_GT(nearer.time_to_corridor_s, 0.5);  // after a turn, not at once
 }
 
-TEST(DangerPredictiveEgoPath, TheHeadingChangeCapEndsThePredictedTurn) {
-  // 10 m/s at 0.3 rad/s (R 33 m): a pole standing on that arc 22 m ahead is in the corridor after
-  // 1.5 s if the turn goes on; with the turn ended after 0.2 rad the path runs straight on and
-  // passes it 3.5 m to its right.
-  const double speed = 10.0, w = 0.3;
-  const ObjectKinematics pole = staticOnBend(onBend(speed / w, 22.0, 0.0), 0.2, 0.2, speed, w);
-  DangerParams p = roadCar();
-  const DangerAssessment turning = assessDanger(pole, p);
-  EXPECT_TRUE(turning.dangerous);
-  p.max_heading_change_rad = 0.2;
-  EXPECT_FALSE(assessDanger(pole, p).dangerous) << assessDanger(pole, p).time_to_corridor_s;
-  // A cap beyond the heading change over the reaction time (0.6 rad) changes nothing.
-  p.max_heading_change_rad = 0.7;
-  EXPECT_NEAR(assessDanger(pole, p).time_to_corridor_s, turning.time_to_corridor_s, 1e-9);
-  // A pole straight ahead of the capped path is dangerous with the cap (and not without it).
-  const Eigen::Vector2d end_of_turn = onBend(speed / w, speed * 0.2 / w, 0.0);
-  const Eigen::Vector2d ahead = end_of_turn + 18.0 * Eigen::Vector2d(std::cos(0.2), std::sin(0.2));
-  const ObjectKinematics on_line = staticOnBend(ahead, 0.2, 0.2, speed, w);
-  p.max_heading_change_rad = 0.2;
-  EXPECT_TRUE(assessDanger(on_line, p).dangerous);
-  p.max_heading_change_rad = 0.0;
-  EXPECT_FALSE(assessDanger(on_line, p).dangerous);
-}
-
-TEST(DangerPredictiveEgoPath, TheHeadingChangeCapIsValidated) {
-  DangerParams p = roadCar();
-  EXPECT_EQ(p.max_heading_change_rad, 0.0);  // no cap unless a profile asks
-  p.max_heading_change_rad = -0.1;
-  EXPECT_NE(validate(p).find("max_heading_change_rad"), std::string::npos);
-  p.max_heading_change_rad = 4.0;
-  EXPECT_NE(validate(p).find("max_heading_change_rad"), std::string::npos);
-  p.max_heading_change_rad = 0.3;
-  EXPECT_EQ(validate(p), "");
-}
-
-// Issue 19: the static-world prior (static_prior_k) as the non-negative garrote.
+// The static-world prior (static_prior_k) as the non-negative garrote.
 TEST(DangerPredictiveStaticPrior, TheGarroteZeroesNoiseAndBarelyTouchesClearMotion) {
   EXPECT_EQ(staticPriorShrink(0.3, 0.4), 0.0);    // within k sigma: standing still
   EXPECT_EQ(staticPriorShrink(-0.4, 0.4), 0.0);   // at the threshold: continuous, 0
@@ -394,76 +359,6 @@ TEST(DangerPredictiveStaticPrior, AParkedCarsVelocityNoiseIsTakenAsStandingStill
   EXPECT_FALSE(assessDanger(parked, p).dangerous);
   p.static_prior_k = 0.0;
   EXPECT_TRUE(assessDanger(parked, p).dangerous);
-}
-
-// Issues 19 and 22: a young track's prediction is not yet evidence (motion_min_hits). Zebra
-// corridor |y| <= 1.0 m, 0 <= x <= 1.5 m, reaction 3 s, immediate_ttc_s 1 s.
-ObjectKinematics withHits(ObjectKinematics o, std::uint32_t hits) {
-  o.hits = hits;
-  return o;
-}
-
-TEST(DangerPredictiveYoungTracks, AYoungTracksVelocityDoesNotCarryItIntoTheCorridorSecondsAhead) {
-  // A fragment 1.25 m beside the corridor with 0.8 m/s toward it: in at 1.6 s on its velocity.
-  const ObjectKinematics fragment = boxAt(1.0, 2.5, 0.25, 0.0, -0.8);
-  DangerParams p = zebra(DangerModel::kPredictive);
-  EXPECT_TRUE(assessDanger(withHits(fragment, 2), p).dangerous);  // off: as before
-  p.motion_min_hits = 5;
-  const DangerAssessment young = assessDanger(withHits(fragment, 2), p);
-  EXPECT_FALSE(young.dangerous);
-  EXPECT_EQ(young.time_to_corridor_s, -1.0);
-  // From its fifth detection on the whole reaction time counts.
-  const DangerAssessment settled = assessDanger(withHits(fragment, 5), p);
-  EXPECT_TRUE(settled.dangerous);
-  EXPECT_NEAR(settled.time_to_corridor_s, 1.6, 1e-9);
-  // Hits unknown (0: perfect tracks, tools): judged as a settled track.
-  EXPECT_TRUE(assessDanger(withHits(fragment, 0), p).dangerous);
-  // The vehicle's own motion counts the same way: a young track 6 m ahead in the path, reached at
-  // 4 m/s after 1.1 s, waits; at 4.5 m it is reached within 0.7 s and is dangerous at once.
-  ObjectKinematics ahead = boxAt(6.0, 0.0, 0.25, -4.0, 0.0);
-  ahead.ego_velocity = Eigen::Vector2d(4.0, 0.0);
-  EXPECT_FALSE(assessDanger(withHits(ahead, 1), p).dangerous);
-  EXPECT_TRUE(assessDanger(withHits(ahead, 5), p).dangerous);
-  ahead.center.x() -= 1.5;
-  ahead.aabb_min.x() -= 1.5;
-  ahead.aabb_max.x() -= 1.5;
-  const DangerAssessment near = assessDanger(withHits(ahead, 1), p);
-  EXPECT_TRUE(near.dangerous);
-  EXPECT_NEAR(near.time_to_corridor_s, 0.7, 1e-9);
-}
-
-TEST(DangerPredictiveYoungTracks, AYoungTrackInThePathOrAboutToEnterIsDangerousAtOnce) {
-  DangerParams p = zebra(DangerModel::kPredictive);
-  p.motion_min_hits = 5;
-  // Already inside the corridor, moving out: dangerous at its first detection, and the
-  // hysteresis turns it on at once (time-to-corridor 0 <= immediate_ttc_s).
-  const DangerAssessment inside = assessDanger(withHits(boxAt(1.0, 0.5, 0.25, 0.0, 3.0), 1), p);
-  EXPECT_TRUE(inside.dangerous);
-  EXPECT_EQ(inside.time_to_corridor_s, 0.0);
-  DangerHysteresis h(p);
-  EXPECT_TRUE(h.update(3, inside, 0.0));
-  // A pedestrian stepping toward the path at 2 m/s, in after 0.65 s <= immediate_ttc_s: its
-  // motion counts whatever its age, and the hysteresis turns it on at once.
-  const DangerAssessment stepping = assessDanger(withHits(boxAt(1.0, 2.5, 0.25, 0.0, -2.0), 1), p);
-  EXPECT_TRUE(stepping.dangerous);
-  EXPECT_NEAR(stepping.time_to_corridor_s, 0.65, 1e-9);
-  EXPECT_TRUE(h.update(4, stepping, 0.0));
-  // Against a shorter immediate_ttc_s: in after 0.65 s counts within 0.66 s, not within 0.6 s.
-  p.immediate_ttc_s = 0.66;
-  EXPECT_TRUE(assessDanger(withHits(boxAt(1.0, 2.5, 0.25, 0.0, -2.0), 1), p).dangerous);
-  p.immediate_ttc_s = 0.6;
-  EXPECT_FALSE(assessDanger(withHits(boxAt(1.0, 2.5, 0.25, 0.0, -2.0), 1), p).dangerous);
-}
-
-TEST(DangerPredictiveYoungTracks, MotionMinHitsIsValidated) {
-  DangerParams p = zebra(DangerModel::kPredictive);
-  EXPECT_EQ(p.motion_min_hits, 0);  // off unless a profile asks
-  p.motion_min_hits = -1;
-  EXPECT_NE(validate(p).find("motion_min_hits"), std::string::npos);
-  p.motion_min_hits = 1001;
-  EXPECT_NE(validate(p).find("motion_min_hits"), std::string::npos);
-  p.motion_min_hits = 4;
-  EXPECT_EQ(validate(p), "");
 }
 
 // The planner's path: a left bend of `radius` from the vehicle on (arc points every metre).

@@ -56,30 +56,6 @@ TEST(EgoPrediction, QuarterCircleAndStraightLine) {
   EXPECT_EQ(straight.yaw, 0.0);
 }
 
-TEST(EgoPrediction, ACappedTurnGoesStraightOnAtTheCappedHeading) {
-  const double radius = 20.0, speed = 10.0, w = speed / radius;
-  const Eigen::Vector2d v(speed, 0.0);
-  // A quarter circle capped at 30 degrees: the arc to 30 degrees, then straight on along it.
-  const double cap = M_PI / 6, t = M_PI / 2 / w, t_turn = cap / w;
-  const PlanarPose capped = predictEgoPose(v, w, t, cap);
-  const PlanarPose arc = predictEgoPose(v, w, t_turn);
-  EXPECT_NEAR(capped.yaw, cap, 1e-12);
-  const Eigen::Vector2d expected =
-      arc.position + speed * (t - t_turn) * Eigen::Vector2d(std::cos(cap), std::sin(cap));
-  EXPECT_TRUE(capped.position.isApprox(expected, 1e-12));
-  EXPECT_NEAR(arc.position.x(), radius * std::sin(cap), 1e-9);
-  // Turning right: mirrored.
-  const PlanarPose right = predictEgoPose(v, -w, t, cap);
-  EXPECT_NEAR(right.yaw, -cap, 1e-12);
-  EXPECT_NEAR(right.position.y(), -capped.position.y(), 1e-9);
-  // Below the cap, or with no cap (0), the constant turn itself.
-  const PlanarPose below = predictEgoPose(v, w, 0.5 * t_turn, cap);
-  EXPECT_TRUE(below.position.isApprox(predictEgoPose(v, w, 0.5 * t_turn).position));
-  const PlanarPose uncapped = predictEgoPose(v, w, t, 0.0);
-  EXPECT_NEAR(uncapped.yaw, M_PI / 2, 1e-12);
-  EXPECT_NEAR(uncapped.position.x(), radius, 1e-9);
-}
-
 TEST(EgoMotion, NoneSourceIsTheStandingVehicle) {
   EgoMotion ego(source(EgoMotionSource::kNone));
   const Eigen::Isometry3d pose = arcPose(10.0, 0.3, 1.0);

@@ -30,6 +30,7 @@ CloudPrepParams roiAndEgo(const Eigen::Vector3f& roi_min, const Eigen::Vector3f&
   prep.roi_max = roi_max;
   prep.ego_min = ego_min;
   prep.ego_max = ego_max;
+  prep.voxel_leaf_m = 0.0f;  // the classic chain's voxel grid: the fast detector reads every point
   return prep;
 }
 
@@ -496,6 +497,7 @@ TEST(FastDetector, SparseBeamsLeavingAWallsTopDoNotCutIt) {
   FastDetectorParams cut;
   cut.step_check_min_extent_m = 0.0f;
   cut.step_piece_max_m = 100.0f;
+  cut.link_step_beams = 0.0f;
   FastDetectorParams whole = cut;
   whole.link_step_beams = 1.25f;
   FastDetector before(zebra, cut), detector(zebra, whole);

@@ -109,8 +109,6 @@ void visitParams(Reader& r, DangerParams& p) {
   r("predictive/footprint_margin_m", p.footprint_margin_m);
   r("predictive/static_clearance_m", p.static_clearance_m);
   r("predictive/static_prior_k", p.static_prior_k);
-  r("predictive/max_heading_change_rad", p.max_heading_change_rad);
-  r("predictive/motion_min_hits", p.motion_min_hits);
   r("predictive/time_step_s", p.time_step_s);
   r("predictive/on_frames", p.on_frames);
   r("predictive/off_frames", p.off_frames);
@@ -128,7 +126,7 @@ void visitParams(Reader& r, LightControllerParams& p) {
   r("illumination/stale_timeout_s", p.illumination_stale_timeout_s);
 }
 
-// The segmented lamp (issue 23), in the same light_controller section.
+// The segmented lamp, in the same light_controller section.
 template <class Reader>
 void visitParams(Reader& r, SegmentLampParams& p) {
   r("segments", p.segments);
@@ -150,8 +148,9 @@ void visitParams(Reader& r, IlluminationParams& p) {
   r("stale_timeout_s", p.stale_timeout_s);
 }
 
-// Evaluation only: the corridor of the ground truth. half_width_m and horizon_s come from the
-// danger_detector section (half_width_m, reaction_time_s) of the same profile.
+// Evaluation only: the corridor of the ground truth. loadProfile starts it from the danger_detector
+// section's corridor (half_width_m, reaction_time_s, predictive margin_m, vehicle_front_m,
+// stopping_margin_m); this section overrides it.
 template <class Reader>
 void visitParams(Reader& r, CorridorParams& p) {
   r("margin_m", p.margin_m);

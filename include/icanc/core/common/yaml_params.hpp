@@ -17,11 +17,12 @@ struct Profile {
   ObstacleDetectorParams detector;
   DangerParams danger;
   LightControllerParams light;
-  SegmentLampParams lamp;  // light_controller section: the segmented lamp (issue 23)
-  // The ground_truth section, with half_width_m and horizon_s from the danger section.
+  SegmentLampParams lamp;  // light_controller section: the segmented lamp
+  // The ground_truth section; what it leaves out is the danger section's corridor (half_width_m,
+  // reaction_time_s, predictive margin_m, vehicle_front_m, stopping_margin_m).
   CorridorParams corridor;
   IlluminationParams illumination;  // illumination_monitor section (camera)
-  LidarOdometryParams lidar_odometry;  // lidar_odometry section (issue 19)
+  LidarOdometryParams lidar_odometry;  // lidar_odometry section
 };
 
 // Loads the obstacle_detector, danger_detector, light_controller, ground_truth, illumination_monitor

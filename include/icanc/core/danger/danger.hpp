@@ -66,20 +66,6 @@ struct DangerParams {
   // A parked car beside the lane or a wall beside the road is not in the way; a car protruding
   // into the lane or a thing lying in it is.
   double static_clearance_m = 0.2;
-  // The vehicle's predicted path turns at the current yaw rate until its heading has changed by
-  // this much, then goes straight on [rad]: a turn ends (a bend, a lane change, the LiDAR
-  // odometry's yaw rate at a bend's entry), and a constant turn rate carried over the whole
-  // reaction time sweeps the corridor across whatever stands on the far side of the bend.
-  // 0 = no cap (constant turn rate over the whole reaction time).
-  double max_heading_change_rad = 0.0;
-  // A young track's prediction is not yet evidence: a track with fewer than motion_min_hits
-  // associated detections (ObjectKinematics::hits) is dangerous only while its time-to-corridor is
-  // at most immediate_ttc_s (inside the corridor, or about to enter it, whatever its age: a
-  // pedestrian stepping in is not held back past that); the full reaction time counts from its
-  // motion_min_hits-th detection on. On KITTI the young tracks of fragments, walls and hedges
-  // carry ghost velocities that sweep them into the corridor seconds ahead; where pedestrians'
-  // tracks restart (clutter) it costs lead time (docs/evaluation.md). 0 = off.
-  int motion_min_hits = 0;
   double time_step_s = 0.05;     // prediction sampling step over [0, reaction_time]
   // Hysteresis (DangerHysteresis, per track): on after on_frames consecutive dangerous frames, or
   // at once when the mean prediction's time-to-corridor (DangerAssessment::mean_time_to_corridor_s)
@@ -144,9 +130,6 @@ struct ObjectKinematics {
   // the vehicle moves forward: the vehicle is predicted along it at its current speed instead of
   // along the constant turn; beyond the path's end, on at the twist's turn rate. Null: the twist.
   std::shared_ptr<const EgoPath> ego_path;
-  // Detections associated with the track so far (icanc/Obstacle hits); 0 = unknown, judged as a
-  // settled track (DangerParams::motion_min_hits does not apply).
-  std::uint32_t hits = 0;
   // kPredictive: whether it moves, from free space (icanc/Obstacle motion_state). kStatic: judged
   // by the vehicle's swept path (sweptPathTimeToReach); kMoving and kUnknown by its prediction.
   MotionState motion = MotionState::kUnknown;
@@ -174,14 +157,13 @@ struct DangerAssessment {
 // the frontal field of view: a box wholly behind it is in none). kPredictive: a static object
 // when the vehicle's swept path reaches it (sweptPathTimeToReach >= 0), any other when
 // predictedTimeToCorridor >= 0 (section, distance, speed, heading and moving_toward are filled as
-// for the paper's rule, for display); a young track of unknown motion (isYoungTrack) only when
-// that time is at most immediate_ttc_s (else it is -1). The section is that of the closest point
-// of [aabb_min, aabb_max] (getSection).
+// for the paper's rule, for display). The section is that of the closest point of
+// [aabb_min, aabb_max] (getSection).
 DangerAssessment assessDanger(const ObjectKinematics& object, const DangerParams& params);
 
 // kPredictive's core: the footprint (its parts, else [aabb_min, aabb_max]; x, y) moving at its
 // velocity over ground, seen from where the vehicle will be along its own twist (the corridor
-// turns with the vehicle; the turn capped at max_heading_change_rad), grown on every side by
+// turns with the vehicle), grown on every side by
 // footprint_margin_m and per axis by min(k * velocity_std(axis) * t, cap), sampled every
 // time_step_s over [0, reaction_time]: the first time a part of it overlaps the corridor, or -1.
 // A part seen from a turned vehicle is a rotated rectangle, tested exactly against the corridor
@@ -202,10 +184,6 @@ double sweptPathTimeToReach(const ObjectKinematics& object, const DangerParams& 
 // instead of t: a car 10 m ahead driving at the vehicle's speed with a young track's sigma of
 // 0.76 m/s keeps 9.6 of its 9.8 m/s rather than 8.3 (which brought it 3 m closer over 2 s).
 double staticPriorShrink(double v, double t);
-
-// A track of unknown motion with fewer than params.motion_min_hits detections (hits known, i.e.
-// > 0): free space has not told whether it moves, and its filter's velocity is still noise.
-bool isYoungTrack(const ObjectKinematics& object, const DangerParams& params);
 
 // Per-track hysteresis of the danger label (params: on_frames, off_frames, immediate_ttc_s,
 // forget_after_s). Call update() for each obstacle of a frame with the frame's time; ids not

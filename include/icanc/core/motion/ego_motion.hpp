@@ -102,9 +102,5 @@ struct PlanarPose {
   Eigen::Isometry3d toIsometry(double z = 0.0) const;
 };
 PlanarPose predictEgoPose(const Eigen::Vector2d& body_velocity, double yaw_rate, double t);
-// The same turn, ended once the heading has changed by max_heading_change_rad: straight on at the
-// body velocity from there (the heading kept). max_heading_change_rad <= 0: not capped.
-PlanarPose predictEgoPose(const Eigen::Vector2d& body_velocity, double yaw_rate, double t,
-                          double max_heading_change_rad);
 
 }  // namespace icanc

@@ -43,12 +43,12 @@ struct LidarOdometryParams {
   double min_motion_m = 0.1;               // deviations below this do not feed the threshold [m]
   double map_voxel_factor = 0.5;           // map input: one point per voxel_m * this
   double registration_voxel_factor = 1.5;  // registered: one point per voxel_m * this ...
-  int max_registration_points = 600;       // ... at most this many (evenly thinned)
+  int max_registration_points = 400;       // ... at most this many (evenly thinned)
   // Flat road gives point-to-point ICP nothing horizontal, and its rings (fixed ranges on a flat
   // road) travel with the vehicle: left to dominate the registered points, it holds the estimate
   // at "not moving". Points below ground_max_z_m (base frame) make at most ground_share of the
   // registered points (they still fix height, roll and pitch); all go into the map.
-  double ground_max_z_m = -1e9;           // [m] in the base frame; -1e9: no ground split
+  double ground_max_z_m = 0.3;            // [m] in the base frame (REP-105: on the road); -1e9: no split
   double ground_share = 0.05;             // [0, 1]
   int min_points = 50;                    // fewer registration points: pose extrapolated
   double min_correspondence_ratio = 0.2;  // fewer matched points than this share: degenerate

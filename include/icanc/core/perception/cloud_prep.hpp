@@ -20,7 +20,7 @@ struct CloudPrepParams {
   // Voxel grid leaf size [m] (pcl::VoxelGrid, centroid per voxel); 0 disables downsampling.
   // A leaf so small that PCL's 32-bit voxel indices would overflow for the cropped cloud's
   // extent falls back to no downsampling (the ROI bounds that extent).
-  float voxel_leaf_m = 0.0f;
+  float voxel_leaf_m = 0.2f;
 };
 
 // Returns an empty string when the parameters are valid, else a sentence naming the problem.

@@ -80,7 +80,7 @@ struct FastDetectorParams {
                                     // pedestrians but raised false danger (docs/performance.md) [m]
   float step_piece_max_m = 1.0f;    // of the pieces the check makes, those at most this across
                                     // come apart; the rest of the component stays one [m]
-  float link_step_beams = 0.0f;     // > 0: the check lets the tops of neighbouring cells at range
+  float link_step_beams = 1.25f;    // > 0: the check lets the tops of neighbouring cells at range
                                     // r from the sensor differ by r * tan(this many of the sensor's
                                     // vertical beam spacings) when that is more than
                                     // link_max_step_m. On a sparse scan the top beam on a long
