@@ -285,6 +285,13 @@ class Frame(object):
     __slots__ = ("t", "stamp", "array", "obstacles", "points")
 
 
+def recorded_with_heading_in_radians(array):
+    """Whether an icanc/ObstacleArray read from a bag (its class generated from the definition the
+    bag stores) has today's icanc/Obstacle heading [rad], not the former heading_deg [deg]."""
+    import re
+    return re.search(r"^\s*float32\s+heading\b", type(array)._full_text, re.M) is not None
+
+
 def read_record(out):
     import rosbag
     frames, lights, lamps, points = {}, [], [], {}
@@ -293,6 +300,9 @@ def read_record(out):
         sys.exit("report: no %s (run without --render-only)" % path)
     with rosbag.Bag(path) as bag:
         for topic, m, _ in bag.read_messages():
+            if topic == OBSTACLES and not frames and not recorded_with_heading_in_radians(m):
+                sys.exit("report: %s was recorded by an older icanc (icanc/Obstacle heading_deg, in "
+                         "degrees, now heading in radians): run again without --render-only" % path)
             if topic == OBSTACLES:
                 frames[m.header.stamp.to_nsec()] = m
             elif topic == LIGHT:
@@ -467,8 +477,9 @@ def why_flagged(o, arr, danger):
         return ("not into the corridor as its box predicts: its footprint parts or the planner's path, or "
                 "held by the hysteresis (off after %d safe frames)" % danger["off_frames"])
     thr = o.speed * danger["reaction_time"]
+    # The message's heading [rad, (-pi, pi]] as the paper's rule reads it: [0, 360) deg.
     return "%s section, closest %.1f m <= %.1f m/s x %.0f s = %.1f m, heading %.0f deg %s" % (
-        section, o.closest_distance, o.speed, danger["reaction_time"], thr, o.heading_deg,
+        section, o.closest_distance, o.speed, danger["reaction_time"], thr, math.degrees(o.heading) % 360.0,
         "toward" if o.moving_toward else "not toward")
 
 

@@ -57,7 +57,7 @@ void toObstacleMsg(const Track& track, const EgoStep& ego, Obstacle& out) {
   out.velocity_over_ground.y = ground.y();
   out.velocity_over_ground.z = ground.z();
   out.speed = getSpeedOfObject(v);
-  out.heading_deg = headingDeg(v);
+  out.heading = headingRad(v);
   out.velocity_std = track.velocityStd();
   const Eigen::Vector2d std_xy = track.velocityStdXY();
   out.velocity_std_axes.x = std_xy.x();

@@ -8,6 +8,7 @@
 // Subscribes to obstacles_danger (icanc/ObstacleArray) and light_state (icanc/LightState); remap
 // them, e.g. obstacles_danger:=/icanc/obstacles_danger light_state:=/icanc/light_state.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <mutex>
 #include <stdexcept>
@@ -87,8 +88,9 @@ class Summary {
     if (s.reason == icanc::LightState::REASON_DANGER && last_array_) {
       for (const auto& o : last_array_->obstacles) {
         if (!o.dangerous) continue;
+        // The message's heading [rad, (-pi, pi]] as the paper's rule reads it: [0, 360) deg.
         std::printf("  id %u at %.2f m, %.2f m/s, heading %.0f deg", o.id, o.closest_distance,
-                    o.speed, o.heading_deg);
+                    o.speed, std::fmod(o.heading * 180.0 / M_PI + 360.0, 360.0));
       }
     }
     std::printf("\n");

@@ -53,6 +53,7 @@ TEST(Conversions, ATrackRoundTripsIntoTheDangerModelsKinematics) {
     EXPECT_TRUE(k.footprint[i].max().isApprox(track.box.footprint[i].max.cast<double>(), 1e-6));
   }
   EXPECT_LT(k.velocity.x(), -0.3);  // it is closing in: 0.1 m per 0.1 s
+  EXPECT_NEAR(msg.heading, M_PI, 1e-6);  // straight toward the vehicle: pi [rad], never -pi
   // No ego motion: over ground is relative.
   EXPECT_DOUBLE_EQ(msg.velocity_over_ground.x, msg.velocity.x);
 }
@@ -78,7 +79,7 @@ TEST(Conversions, VelocityOverGroundAndRelativeToATurningVehicle) {
   EXPECT_NEAR(msg.velocity.x, -5.0, 1e-6);  // the vehicle-fixed point (10, 0) moves at (5, 5)
   EXPECT_NEAR(msg.velocity.y, -5.0, 1e-6);
   EXPECT_NEAR(msg.speed, std::sqrt(50.0), 1e-5);
-  EXPECT_NEAR(msg.heading_deg, 225.0, 1e-4);
+  EXPECT_NEAR(msg.heading, -0.75 * M_PI, 1e-6);  // toward and to the right: REP-103 radians
   const geometry_msgs::Twist twist = toTwistMsg(ego);
   EXPECT_DOUBLE_EQ(twist.angular.z, 0.5);
   const ObjectKinematics k = toKinematics(msg, twist);

@@ -59,7 +59,10 @@ TEST(Approach, LampOnAtSpeedTimesReactionTimeAndOffTauAfterDangerEnds) {
     for (const auto& o : a->obstacles) {
       if (!o.dangerous) continue;
       EXPECT_NEAR(o.speed, speed, 0.4);
-      EXPECT_NEAR(o.heading_deg, 180.0, 20.0);
+      // Toward the vehicle: heading pi, within 20 degrees either side (the wrap at -pi).
+      EXPECT_NEAR(std::remainder(o.heading - M_PI, 2.0 * M_PI), 0.0, 20.0 * M_PI / 180.0);
+      EXPECT_GT(o.heading, -M_PI);
+      EXPECT_LE(o.heading, float(M_PI));
       EXPECT_EQ(o.section, Obstacle::SECTION_FRONT);
     }
   }

@@ -146,6 +146,31 @@ class TestReport(unittest.TestCase):
             checked += len(flagged)
         self.assertGreater(checked, 0)
 
+    def test_a_record_with_the_former_heading_in_degrees_is_refused(self):
+        """A record.bag from before icanc/Obstacle carried heading in radians (heading_deg, in
+        degrees): --render-only says so and stops, instead of drawing from a field it misreads."""
+        _, arrays = self.recorded()
+        import genpy.dynamic
+        import rosbag
+        text = type(arrays[0])._full_text  # today's definition, as this run's record.bag stores it
+        old_text = text.replace("float32 heading ", "float32 heading_deg ")
+        self.assertNotEqual(old_text, text)
+        old = genpy.dynamic.generate_dynamic("icanc/ObstacleArray", old_text)
+        out = os.path.join(self.tmp, "former")
+        os.makedirs(out)
+        array = old["icanc/ObstacleArray"]()
+        array.obstacles = [old["icanc/Obstacle"](id=1, heading_deg=180.0)]
+        with rosbag.Bag(os.path.join(out, "record.bag"), "w") as bag:
+            bag.write("/icanc/obstacles_danger", array)
+        run = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "report.py"),
+                              os.path.join(self.tmp, "drive.bag"), out, "--vehicle", "zebra", "--render-only"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                             timeout=120, env=report_env())
+        self.assertNotEqual(run.returncode, 0, run.stdout[-1500:])
+        self.assertIn("heading_deg", run.stdout)
+        self.assertIn("without --render-only", run.stdout)
+        self.assertFalse(os.path.exists(os.path.join(out, "index.html")))
+
     def test_browser_renders_it(self):
         browser = shutil.which("chromium") or shutil.which("chromium-browser")
         if browser is None:

@@ -88,6 +88,12 @@ double headingDeg(const Eigen::Vector3d& velocity) {
   return deg >= 360.0 ? 0.0 : deg;
 }
 
+double headingRad(const Eigen::Vector3d& velocity) {
+  if (velocity.x() == 0.0 && velocity.y() == 0.0) return 0.0;
+  const double rad = std::atan2(velocity.y(), velocity.x());
+  return float(rad) <= -float(M_PI) ? M_PI : rad;
+}
+
 bool isMovingTowardMe(double heading_deg, Section section, double window_deg) {
   double centre = 0.0;  // the heading straight across or into the path
   switch (section) {

@@ -55,6 +55,26 @@ TEST(HeadingDeg, EqualsThePapersAngleBetweenVectorsFormula) {
   }
 }
 
+// The message's heading (REP-103 radians, (-pi, pi]) is the paper's direction: pi is 180 degrees.
+TEST(HeadingRad, DirectionsInRadiansWithPiTowardTheVehicle) {
+  EXPECT_NEAR(headingRad({1, 0, 0}), 0.0, 1e-12);            // away
+  EXPECT_NEAR(headingRad({0, 1, 0}), M_PI / 2.0, 1e-12);     // left
+  EXPECT_NEAR(headingRad({0, -1, 0}), -M_PI / 2.0, 1e-12);   // right
+  EXPECT_EQ(headingRad({-1, 0, 0}), M_PI);                   // toward the vehicle
+  EXPECT_EQ(headingRad({-1, -0.0, 0}), M_PI);                // atan2 gives -pi here: not in range
+  EXPECT_EQ(headingRad({-1, -1e-9, 0}), M_PI);               // -pi once stored as float32
+  EXPECT_NEAR(headingRad({-1, -1e-6, 0}), -M_PI + 1e-6, 1e-12);
+  EXPECT_GT(float(headingRad({-1, -1e-6, 0})), -float(M_PI));
+  EXPECT_EQ(headingRad({0, 0, 3}), 0.0);  // no planar motion
+  for (double deg = 0.5; deg < 360.0; deg += 7.3) {
+    const Eigen::Vector3d v = velocityAt(deg, 2.5);
+    const double rad = headingRad(v);
+    EXPECT_GT(rad, -M_PI) << deg;
+    EXPECT_LE(rad, M_PI) << deg;
+    EXPECT_NEAR(std::fmod(rad * 180.0 / M_PI + 360.0, 360.0), headingDeg(v), 1e-9) << deg;
+  }
+}
+
 TEST(IsMovingTowardMe, NarrowerWindowKeepsTheCentres) {
   // 90 degree windows (DangerParams::heading_window_deg): right [45, 135], left [225, 315],
   // front [135, 225].

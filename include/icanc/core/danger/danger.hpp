@@ -93,6 +93,11 @@ double getSpeedOfObject(const Eigen::Vector3d& velocity);
 // (sign of u x v) the displacement points to. Zero velocity gives 0.
 double headingDeg(const Eigen::Vector3d& velocity);
 
+// The same direction in radians (REP-103, icanc/Obstacle heading): atan2(vy, vx) in (-pi, pi],
+// 0 = +x (away), pi/2 = +y (left), -pi/2 = -y (right), pi = toward the vehicle (-pi is returned as
+// pi, also where a float32 would round the angle to -pi). Zero velocity gives 0.
+double headingRad(const Eigen::Vector3d& velocity);
+
 // isMovingTowardMe with the current design's 150 degree windows, edges included:
 // right section [15, 165], left section [195, 345], front section [105, 255]. Other widths
 // (DangerParams::heading_window_deg, (0, 180]) keep the centres 90, 270 and 180.
