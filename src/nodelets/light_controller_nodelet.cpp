@@ -1,12 +1,11 @@
 // icanc/LightController: the paper's timer state machine (icanc/light_controller.hpp) over the
-// DangerDetector's output. Publishes icanc/LightState and std_msgs/Bool on every change and at a
-// steady rate, and the lamp as rviz markers on `markers` while someone listens. Time is ROS time
-// (sim time during replay).
+// DangerDetector's output, with the segmented lamp, both fed by icanc/lamp_control.hpp. Publishes
+// icanc/LightState and std_msgs/Bool on every change and at a steady rate, and the lamp as rviz
+// markers on `markers` while someone listens. Time is ROS time (sim time during replay).
 // Beside it, the segmented lamp (issue 23, icanc/segmented_light_controller.hpp): the dangerous
 // boxes of the same ObstacleArray light the segments that see them; icanc/LampCommand on
 // `lamp_command`, wedges on `~lamp_segments` while someone listens. `lamp_cmd` stays the paper's
 // binary lamp (with the default one-segment lamp it is exactly "any segment on").
-#include <algorithm>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -21,8 +20,7 @@
 #include "icanc/LightControllerConfig.h"
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
-#include "icanc/core/light/light_controller.hpp"
-#include "icanc/core/light/segmented_light_controller.hpp"
+#include "icanc/core/light/lamp_control.hpp"
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/markers.hpp"
 #include "icanc/ros/nodelet_support.hpp"
@@ -40,7 +38,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     readParams(reader, params);
     SegmentLampParams lamp;
     readParams(reader, lamp);
-    fault_segments_ = std::max<std::size_t>(1, lamp.segments.size());
+    fault_levels_ = faultLevels(lamp);
     reader.read("publish_rate_hz", publish_rate_hz_);
     reader.read("tick_rate_hz", tick_rate_hz_);
     bool trace = false;
@@ -56,14 +54,17 @@ class LightControllerNodelet : public nodelet::Nodelet {
       startFault(reader.error().empty() ? why : reader.error());
       return;
     }
-    controller_.reset(new LightController(params));
-    segmented_.reset(new SegmentedLightController(params, lamp));
+    control_.reset(new LampControl(params, lamp));
 
     // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
     // onInit is still running on a loaded machine.
     live_.reset(new LiveParams<LightControllerConfig, LightControllerParams>(pnh, params, getName()));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight"));
-    diagnostics_->updater().add("light controller", this, &LightControllerNodelet::diagnose);
+    diagnostics_->updater().add("light controller", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      report(stat, control_->report());
+      live_->addTo(stat);
+    });
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
     marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
@@ -83,7 +84,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     }
     NODELET_INFO("LightController: tau %.2f s, recheck below %.2f s, watchdog %.2f s, %zu lamp "
                  "segment(s)", params.tau_s, params.recheck_below_s, params.stale_timeout_s,
-                 segmented_->segments().size());
+                 control_->segmented().segments().size());
     if (!params.watchdog_enabled)
       NODELET_WARN("LightController: watchdog_enabled is false: no fail-safe lamp when the input "
                    "stops (offline use only)");
@@ -98,33 +99,14 @@ class LightControllerNodelet : public nodelet::Nodelet {
     fault_ = why;
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight"));
     diagnostics_->updater().add("light controller", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
-      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
-                   "cannot start, lamp on (fail-safe): invalid parameters: " + fault_);
-      stat.add("lamp on", true);
-      stat.add("reason", toString(LightReason::kFault));
-      stat.add("invalid parameters", fault_);
+      report(stat, faultReport(fault_));
     });
     state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
     lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
     command_pub_ = nh.advertise<LampCommand>("lamp_command", 10);
-    const double rate_hz =
-        publish_rate_hz_ >= kMinPublishRateHz && publish_rate_hz_ <= kMaxRateHz ? publish_rate_hz_ : 10.0;
-    timer_ = nh.createTimer(ros::Duration(1.0 / rate_hz), [this](const ros::TimerEvent&) {
-      auto state = boost::make_shared<LightState>();
-      state->header.stamp = ros::Time::now();
-      state->on = true;
-      state->reason = static_cast<std::uint8_t>(LightReason::kFault);
-      state->reason_text = toString(LightReason::kFault);
-      auto lamp = boost::make_shared<std_msgs::Bool>();
-      lamp->data = true;
-      auto command = boost::make_shared<LampCommand>();  // every segment ON
-      command->header = state->header;
-      command->levels.assign(fault_segments_, 1.0f);
-      command->reason = state->reason;
-      command->reason_text = state->reason_text;
-      state_pub_.publish(LightState::ConstPtr(state));
-      lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
-      command_pub_.publish(LampCommand::ConstPtr(command));
+    timer_ = nh.createTimer(ros::Duration(1.0 / faultPublishRate(publish_rate_hz_)), [this](const ros::TimerEvent&) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      publish(ros::Time::now(), false);
     });
     NODELET_ERROR("LightController cannot start (%s): publishing lamp ON (reason fault)", why.c_str());
   }
@@ -135,18 +117,23 @@ class LightControllerNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     applyTunedParams();
     const ros::Time now = ros::Time::now();
-    ++inputs_;
     if (!msg->header.frame_id.empty()) marker_frame_ = msg->header.frame_id;
     input_stamp_ = msg->header.stamp;
     input_receive_time_ = msg->cloud_receive_time;
-    if (msg->sensor_blind) ++blind_inputs_;
-    if (controller_->onInput(now.toSec(), msg->num_dangerous > 0, msg->sensor_blind)) {
-      ++triggers_;
+    boxes_.clear();  // the dangerous boxes, x-y of their axis-aligned bounds
+    for (const Obstacle& o : msg->obstacles)
+      if (o.dangerous)
+        boxes_.emplace_back(Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y), Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y));
+    const LampControl::InputResult result =
+        control_->onInput(now.toSec(), msg->num_dangerous, msg->sensor_blind, boxes_);
+    if (result.triggered) {
       trigger_cloud_stamp_ = msg->header.stamp;
       trigger_receive_time_ = msg->cloud_receive_time;
       trigger_dangerous_ = msg->num_dangerous;
     }
-    segmentInput(*msg, now.toSec());
+    if (result.unlocated)
+      NODELET_ERROR_THROTTLE(5.0, "num_dangerous %u but %zu obstacles flagged dangerous: every lamp "
+                             "segment on", msg->num_dangerous, boxes_.size());
     // Every input is answered (replay tools wait for it); changes are among them.
     publish(now, true);
     input_->processed((ros::WallTime::now() - received).toSec() * 1e3);
@@ -155,16 +142,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
   void onIllumination(const IlluminationState::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = ros::Time::now();
-    Illumination state = Illumination::kUnknown;
-    if (msg->state <= IlluminationState::STATE_BRIGHT) {
-      state = static_cast<Illumination>(msg->state);
-    } else {
-      ++bad_illumination_;
-      NODELET_ERROR_THROTTLE(5.0, "illumination state %u is invalid: treated as unknown", msg->state);
-    }
-    illumination_ = state;
-    const bool segments_changed = segmented_->onIllumination(now.toSec(), state);
-    if (controller_->onIllumination(now.toSec(), state) || segments_changed) publish(now, false);
+    bool invalid = false;
+    const bool changed = control_->onIllumination(now.toSec(), msg->state, invalid);
+    if (invalid) NODELET_ERROR_THROTTLE(5.0, "illumination state %u is invalid: treated as unknown", msg->state);
+    if (changed) publish(now, false);
   }
 
   void onTick(const ros::TimerEvent&) { advance(true); }
@@ -177,121 +158,69 @@ class LightControllerNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     applyTunedParams();
     const ros::Time now = ros::Time::now();
-    const bool segments_changed = segmented_->tick(now.toSec());
-    const bool changed = controller_->tick(now.toSec());
-    if (changed && controller_->reason() == LightReason::kSensorStale) {
-      ++stale_events_;
+    bool stale_event = false;
+    const bool changed = control_->tick(now.toSec(), stale_event);
+    if (stale_event)
       NODELET_WARN("no input on %s for %.2f s: lamp ON (fail-safe)", sub_.getTopic().c_str(),
-                   controller_->params().stale_timeout_s);
-    }
+                   control_->binary().params().stale_timeout_s);
+    // ROS durations, not differences of seconds: a replay's publications fall on the same ticks.
     const bool due = steady_publication &&
                      ((now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_);
-    if (changed || segments_changed || due) publish(now, false);
+    if (changed || due) publish(now, false);
   }
 
   // With mutex_ held: a dynamic_reconfigure change, from this input or tick on.
   void applyTunedParams() {
     LightControllerParams tuned;
-    if (!live_->take(tuned)) return;
-    controller_->setParams(tuned);
-    segmented_->setParams(tuned);
+    if (live_->take(tuned)) control_->setParams(tuned);
   }
 
-  // With mutex_ held: the input's dangerous boxes (x-y of their axis-aligned bounds) to the
-  // segmented lamp. A count of dangerous objects above the flagged boxes is danger of unknown
-  // place: every segment lights.
-  void segmentInput(const ObstacleArray& msg, double now) {
-    boxes_.clear();
-    for (const Obstacle& o : msg.obstacles)
-      if (o.dangerous)
-        boxes_.emplace_back(Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y), Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y));
-    const bool unlocated = msg.num_dangerous > boxes_.size();
-    if (unlocated) {
-      ++unlocated_inputs_;
-      NODELET_ERROR_THROTTLE(5.0, "num_dangerous %u but %zu obstacles flagged dangerous: every lamp "
-                             "segment on", msg.num_dangerous, boxes_.size());
-    }
-    segmented_->onInput(now, boxes_, msg.sensor_blind, unlocated);
-  }
-
+  // The lamp on every topic: the controller's, or every segment ON (REASON_FAULT) on the fault
+  // path (no controller). With mutex_ held.
   void publish(const ros::Time& now, bool answers_input) {
     auto state = boost::make_shared<LightState>();
-    state->header.stamp = now;
-    state->on = controller_->on();
-    state->reason = static_cast<std::uint8_t>(controller_->reason());
-    state->reason_text = toString(controller_->reason());
-    state->time_left = static_cast<float>(controller_->timeLeft(now.toSec()));
+    auto command = boost::make_shared<LampCommand>();
+    state->header.stamp = command->header.stamp = now;
+    if (control_) {
+      const LightController& binary = control_->binary();
+      state->on = binary.on();
+      state->reason = static_cast<std::uint8_t>(binary.reason());
+      state->time_left = static_cast<float>(binary.timeLeft(now.toSec()));
+      command->levels = control_->segmented().levels();
+      command->reason = static_cast<std::uint8_t>(control_->segmented().reason());
+      control_->published(state->on);
+    } else {
+      state->on = true;
+      state->reason = command->reason = static_cast<std::uint8_t>(LightReason::kFault);
+      command->levels = fault_levels_;
+    }
+    state->reason_text = toString(static_cast<LightReason>(state->reason));
+    command->reason_text = toString(static_cast<LightReason>(command->reason));
     state->dangerous_objects = trigger_dangerous_;
     state->cloud_stamp = trigger_cloud_stamp_;
     state->cloud_receive_time = trigger_receive_time_;
-    state->input_stamp = input_stamp_;
+    state->input_stamp = command->input_stamp = input_stamp_;
     if (answers_input && !input_receive_time_.isZero())
-      state->input_latency_ms = static_cast<float>(
+      state->input_latency_ms = command->input_latency_ms = static_cast<float>(
           (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
     auto lamp = boost::make_shared<std_msgs::Bool>();
     lamp->data = state->on;
-    if (state->on != last_on_) ++transitions_;
-    last_on_ = state->on;
     last_publish_ = now;
-    auto command = boost::make_shared<LampCommand>();
-    command->header.stamp = now;
-    command->levels = segmented_->levels();
-    command->reason = static_cast<std::uint8_t>(segmented_->reason());
-    command->reason_text = toString(segmented_->reason());
-    command->input_stamp = input_stamp_;
-    if (answers_input && !input_receive_time_.isZero())
-      command->input_latency_ms = static_cast<float>(
-          (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
     // The levels before the binary lamp, so a board that follows both does not see the new ON
     // with the previous levels (the sketch also lights every segment for ON with all levels 0).
     command_pub_.publish(LampCommand::ConstPtr(command));
     state_pub_.publish(LightState::ConstPtr(state));
     lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
     if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
-    if (segment_marker_pub_.getNumSubscribers() > 0)
-      segment_marker_pub_.publish(segmentMarkers(*command, segmented_->segments(),
-                                                 segmented_->lamp().lamp_position_m, marker_frame_,
-                                                 20.0, marker_style_));
+    if (control_ && segment_marker_pub_.getNumSubscribers() > 0)
+      segment_marker_pub_.publish(segmentMarkers(*command, control_->segmented().segments(),
+                                                 control_->segmented().lamp().lamp_position_m,
+                                                 marker_frame_, 20.0, marker_style_));
   }
 
-  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const LightReason reason = controller_->reason();
-    if (reason == LightReason::kSensorStale)
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "lamp on: sensor stale (fail-safe)");
-    else if (reason == LightReason::kSensorBlind)
-      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "lamp on: sensor blind (fail-safe)");
-    else
-      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, std::string("lamp ") +
-                   (controller_->on() ? "on: " : "off: ") + toString(reason));
-    stat.add("lamp on", controller_->on());
-    stat.add("reason", toString(reason));
-    stat.add("inputs", inputs_);
-    stat.add("timer starts/resets", triggers_);
-    stat.add("lamp transitions", transitions_);
-    stat.add("sensor stale events", stale_events_);
-    stat.add("sensor blind inputs", blind_inputs_);
-    stat.add("watchdog enabled", controller_->params().watchdog_enabled);
-    if (!controller_->params().watchdog_enabled)
-      stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "watchdog disabled (watchdog_enabled: false)");
-    if (controller_->params().illumination_enabled) {
-      stat.add("illumination", toString(illumination_));
-      stat.add("invalid illumination messages", bad_illumination_);
-    }
-    stat.add("tau_s", controller_->params().tau_s);
-    const std::vector<float> levels = segmented_->levels();
-    stat.add("lamp segments", levels.size());
-    stat.add("lamp segments lit", std::count_if(levels.begin(), levels.end(), [](float l) { return l > 0.0f; }));
-    stat.add("dangerous objects outside every segment (all segments on)", segmented_->unlitObjects());
-    stat.add("inputs with unlocated danger (all segments on)", unlocated_inputs_);
-    live_->addTo(stat);
-  }
-
-  std::unique_ptr<LightController> controller_;
-  std::unique_ptr<SegmentedLightController> segmented_;
+  std::unique_ptr<LampControl> control_;
   std::vector<Eigen::AlignedBox2d> boxes_;  // the input's dangerous boxes (reused)
-  std::size_t fault_segments_ = 1;          // levels published by the fault path
-  std::uint64_t unlocated_inputs_ = 0;
+  std::vector<float> fault_levels_;         // levels published by the fault path
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
   double expected_rate_hz_ = 10.0;
@@ -309,15 +238,11 @@ class LightControllerNodelet : public nodelet::Nodelet {
 
   std::mutex mutex_;  // subscriber, timer and diagnostics callbacks
   ros::Time last_publish_;
-  bool last_on_ = true;
   ros::Time trigger_cloud_stamp_;
   ros::Time trigger_receive_time_;
   ros::Time input_stamp_, input_receive_time_;
   std::uint32_t trigger_dangerous_ = 0;
-  std::uint64_t inputs_ = 0, triggers_ = 0, transitions_ = 0, stale_events_ = 0, blind_inputs_ = 0;
   std::string fault_;  // why the controller could not start ("" when it runs)
-  Illumination illumination_ = Illumination::kUnknown;
-  std::uint64_t bad_illumination_ = 0;
 };
 
 }  // namespace icanc

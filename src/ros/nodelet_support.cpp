@@ -20,6 +20,21 @@ geometry_msgs::TransformStamped lookupAtStampOrLatest(const tf2_ros::Buffer& buf
   }
 }
 
+void report(diagnostic_updater::DiagnosticStatusWrapper& stat, const StatusReport& report) {
+  stat.summary(static_cast<unsigned char>(report.level), report.message);
+  for (const auto& kv : report.values) stat.add(kv.first, kv.second);
+}
+
+void log(const std::string& name, const LogLine& line) {
+  switch (line.severity) {
+    case LogSeverity::kDebug: ROS_DEBUG_NAMED(name, "%s", line.text.c_str()); break;
+    case LogSeverity::kInfo: ROS_INFO_NAMED(name, "%s", line.text.c_str()); break;
+    case LogSeverity::kWarn: ROS_WARN_NAMED(name, "%s", line.text.c_str()); break;
+    case LogSeverity::kError: ROS_ERROR_NAMED(name, "%s", line.text.c_str()); break;
+    case LogSeverity::kFatal: ROS_FATAL_NAMED(name, "%s", line.text.c_str()); break;
+  }
+}
+
 bool checkParams(const std::string& name, const ParamReader& reader, const std::string& validation) {
   for (const std::string& key : reader.unknownKeys()) {
     ROS_WARN_NAMED(name, "[%s] unknown parameter %s is ignored (typo?)", name.c_str(), key.c_str());

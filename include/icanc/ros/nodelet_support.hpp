@@ -15,6 +15,8 @@
 #include <ros/timer.h>
 #include <tf2_ros/buffer.h>
 
+#include "icanc/core/common/log_line.hpp"
+#include "icanc/core/common/status_report.hpp"
 #include "icanc/ros/param_reader.hpp"
 
 namespace icanc {
@@ -22,6 +24,13 @@ namespace icanc {
 // Logs every problem with the parameters read by `reader` plus `validation` (the core's
 // validate() result) under `name`. Returns false when the nodelet must not start.
 bool checkParams(const std::string& name, const ParamReader& reader, const std::string& validation);
+
+// A core class's report (icanc/core/common/status_report.hpp) into a diagnostic status: its
+// summary and its values.
+void report(diagnostic_updater::DiagnosticStatusWrapper& stat, const StatusReport& report);
+
+// A core class's log line under the nodelet's name (as NODELET_INFO and the like write it).
+void log(const std::string& name, const LogLine& line);
 
 // A frame id as tf2 names it: tf2 frame ids carry no leading '/', tf1-era ones may.
 inline std::string bareFrame(const std::string& frame) {

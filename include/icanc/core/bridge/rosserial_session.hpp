@@ -58,6 +58,21 @@ struct LightBridgeParams {
 
 std::string validate(const LightBridgeParams& params);
 
+// The parameter keys (the LightBridge nodelet's private parameters), for the ROS reader.
+template <class Reader>
+void visitParams(Reader& r, LightBridgeParams& p) {
+  r("device_cmd_topic", p.device_cmd_topic);
+  r("device_state_topic", p.device_state_topic);
+  r("device_levels_topic", p.device_levels_topic);
+  r("heartbeat_hz", p.heartbeat_hz);
+  r("link_timeout_s", p.link_timeout_s);
+  r("negotiation_retry_s", p.negotiation_retry_s);
+  r("cmd_stale_timeout_s", p.cmd_stale_timeout_s);
+  r("lamp_report_timeout_s", p.lamp_report_timeout_s);
+  r("frame_timeout_s", p.frame_timeout_s);
+  r("max_payload_bytes", p.max_payload_bytes);
+}
+
 enum class LinkState : std::uint8_t { kClosed = 0, kNegotiating = 1, kSynced = 2, kMismatch = 3 };
 const char* toString(LinkState state);
 

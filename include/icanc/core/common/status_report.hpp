@@ -1,0 +1,43 @@
+// A diagnostic status without ROS: a level, a summary and key/value pairs, the values written as
+// diagnostic_updater writes them (operator<<, booleans as True/False). A core class says in one
+// what its nodelet reports; the nodelet copies it into /diagnostics (icanc/ros/nodelet_support.hpp,
+// report()), and a gtest reads it.
+#pragma once
+
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace icanc {
+
+enum class StatusLevel : std::uint8_t { kOk = 0, kWarn = 1, kError = 2 };
+
+struct StatusReport {
+  StatusLevel level = StatusLevel::kOk;
+  std::string message;
+  std::vector<std::pair<std::string, std::string>> values;
+
+  void summary(StatusLevel l, const std::string& text) {
+    level = l;
+    message = text;
+  }
+  // diagnostic_updater's mergeSummary: two problems (WARN or ERROR) join with "; ", else the
+  // higher level's message stands.
+  void mergeSummary(StatusLevel l, const std::string& text);
+
+  template <class T>
+  void add(const std::string& key, const T& value) {
+    std::ostringstream ss;
+    ss << value;
+    values.emplace_back(key, ss.str());
+  }
+  void add(const std::string& key, bool value) { values.emplace_back(key, value ? "True" : "False"); }
+  void add(const std::string& key, const std::string& value) { values.emplace_back(key, value); }
+
+  // The value under `key`, "" when absent (for tests).
+  std::string value(const std::string& key) const;
+};
+
+}  // namespace icanc
