@@ -1,13 +1,11 @@
 #include "icanc/ros/ego_pose_source.hpp"
 
-#include <ros/rate.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 namespace icanc {
 namespace {
 
 constexpr double kOdometryHistoryS = 5.0;  // odometry kept for lookups this far back
-constexpr double kPollS = 0.001;           // wall-clock poll while waiting for a pose
 
 }  // namespace
 
@@ -24,17 +22,12 @@ EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
 }
 
 bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_frame,
-                           double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
-  // A source silent for several clouds is not waited for: a vehicle configured for a pose it does
-  // not publish must not lose max_wait_s of latency on every cloud.
-  if (consecutive_misses_ >= kMissesBeforeNoWait) max_wait_s = 0.0;
+                           Eigen::Isometry3d& pose, std::string& why) {
   bool found = false;
   switch (source_) {
     case EgoMotionSource::kTf:
-    case EgoMotionSource::kLidar: found = lookupTf(stamp, vehicle_frame, max_wait_s, pose, why); break;
-    case EgoMotionSource::kOdometry:
-      found = lookupOdometry(stamp, vehicle_frame, max_wait_s, pose, why);
-      break;
+    case EgoMotionSource::kLidar: found = lookupTf(stamp, vehicle_frame, pose, why); break;
+    case EgoMotionSource::kOdometry: found = lookupOdometry(stamp, vehicle_frame, pose, why); break;
     case EgoMotionSource::kNone:
     case EgoMotionSource::kInvalid: why = "no ego motion source"; break;
   }
@@ -42,15 +35,28 @@ bool EgoPoseSource::lookup(const ros::Time& stamp, const std::string& vehicle_fr
   return found;
 }
 
-bool EgoPoseSource::lookupTf(const ros::Time& stamp, const std::string& vehicle_frame,
-                             double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
-  // Polled on the wall clock, not tf2's timeout: under sim time a lockstep replay does not advance
-  // the clock while the graph works on a frame.
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(max_wait_s);
-  while (!tf_.canTransform(fixed_frame_, vehicle_frame, stamp, &why)) {
-    if (ros::WallTime::now() >= deadline || !ros::ok()) return false;
-    ros::WallDuration(kPollS).sleep();
+bool EgoPoseSource::available(const ros::Time& stamp, const std::string& vehicle_frame) {
+  switch (source_) {
+    case EgoMotionSource::kTf:
+    case EgoMotionSource::kLidar: return tf_.canTransform(fixed_frame_, vehicle_frame, stamp);
+    case EgoMotionSource::kOdometry: {
+      Eigen::Isometry3d pose;
+      std::string child, why;
+      return interpolateOdometry(stamp, pose, child, why);
+    }
+    case EgoMotionSource::kNone:
+    case EgoMotionSource::kInvalid: break;
   }
+  return true;  // nothing to wait for
+}
+
+void EgoPoseSource::setOnPose(std::function<void()> on_pose) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  on_pose_ = std::move(on_pose);
+}
+
+bool EgoPoseSource::lookupTf(const ros::Time& stamp, const std::string& vehicle_frame,
+                             Eigen::Isometry3d& pose, std::string& why) {
   try {
     pose = tf2::transformToEigen(tf_.lookupTransform(fixed_frame_, vehicle_frame, stamp));
     return true;
@@ -66,6 +72,7 @@ void EgoPoseSource::onOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!msg->child_frame_id.empty()) odometry_child_frame_ = msg->child_frame_id;
   odometry_.add(msg->header.stamp.toSec(), pose);  // an older stamp: the replay restarted
+  if (on_pose_) on_pose_();
 }
 
 bool EgoPoseSource::interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3d& pose,
@@ -101,13 +108,9 @@ bool EgoPoseSource::interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3
 }
 
 bool EgoPoseSource::lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame,
-                                   double max_wait_s, Eigen::Isometry3d& pose, std::string& why) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(max_wait_s);
+                                   Eigen::Isometry3d& pose, std::string& why) {
   std::string child;
-  while (!interpolateOdometry(stamp, pose, child, why)) {
-    if (ros::WallTime::now() >= deadline || !ros::ok()) return false;
-    ros::WallDuration(kPollS).sleep();
-  }
+  if (!interpolateOdometry(stamp, pose, child, why)) return false;
   if (child.empty() || child == vehicle_frame) return true;
   // The odometry's child frame is not the frame the boxes are in: through the (static) mount.
   try {

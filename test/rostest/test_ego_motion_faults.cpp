@@ -2,8 +2,15 @@
 // each cloud's stamp. Every frame is answered whatever the poses do: measured (the twist in the
 // array), missing (extrapolated for max_extrapolation_s, then lost: relative velocities, an error),
 // back (a fresh start), jumping (re-based); the faults are counted in /diagnostics.
-#include <diagnostic_msgs/DiagnosticArray.h>
+// TransformWait (transform_wait.test, ego_motion/max_wait_s 1): a cloud whose transform never
+// comes waits in the queue without blocking the callback (the next cloud is received and queued
+// meanwhile), then goes on in the sensor's frame, counted; the clouds keep their order.
+#include <algorithm>
+#include <atomic>
+#include <cstring>
 #include <map>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
 
 #include <gtest/gtest.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -22,7 +29,11 @@ class EgoMotionFaults : public ::testing::Test {
           std::lock_guard<std::mutex> lock(mutex_);
           for (const auto& s : m->status)
             if (s.name.find("obstacle detector") != std::string::npos)
-              for (const auto& kv : s.values) counters_[kv.key] = kv.value;
+              for (const auto& kv : s.values) {
+                counters_[kv.key] = kv.value;
+                if (kv.key == "clouds waiting for transforms")
+                  most_waiting_ = std::max(most_waiting_.load(), std::stoi(kv.value));
+              }
         });
   }
 
@@ -53,6 +64,17 @@ class EgoMotionFaults : public ::testing::Test {
   ros::Time pace_stamp_;
   ros::WallTime pace_wall_;
 
+  // Frames with poses at 2 m/s from now until the graph answers (the first may go unanswered
+  // while connections settle: bad_input's firstFrame), then `more`. Null when it never answered.
+  ObstacleArray::ConstPtr start(ros::Time& stamp, double& x, int more) {
+    if (!g_.waitForGraph()) return nullptr;
+    stamp = ros::Time::now();
+    ObstacleArray::ConstPtr a;
+    for (int attempt = 0; attempt < 6 && !a; ++attempt) a = frame(stamp += ros::Duration(0.1), true, x += 0.2);
+    for (int i = 0; a && i < more; ++i) a = frame(stamp += ros::Duration(0.1), true, x += 0.2);
+    return a;
+  }
+
   long counter(const std::string& key) {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = counters_.find(key);
@@ -63,22 +85,17 @@ class EgoMotionFaults : public ::testing::Test {
   tf2_ros::TransformBroadcaster tf_;
   std::mutex mutex_;
   std::map<std::string, std::string> counters_;
+  std::atomic<int> most_waiting_{0};
   ros::Subscriber diag_;  // last: destroyed first
 };
 
 TEST_F(EgoMotionFaults, EveryFrameIsAnsweredWhateverThePosesDo) {
-  ASSERT_TRUE(g_.waitForGraph());
-  ros::Time stamp = ros::Time::now();
+  ros::Time stamp;
   const ros::Duration dt(0.1);
-  // The first frames may go unanswered while connections settle (bad_input's firstFrame).
-  ObstacleArray::ConstPtr a;
   double x = 0.0;
-  for (int attempt = 0; attempt < 6 && !a; ++attempt) a = frame(stamp += dt, true, x += 0.2);
-  ASSERT_TRUE(a) << "the graph never answered";
-
   // Measured: 2 m/s ahead (0.2 m per 0.1 s).
-  for (int i = 0; i < 5; ++i) a = frame(stamp += dt, true, x += 0.2);
-  ASSERT_TRUE(a);
+  ObstacleArray::ConstPtr a = start(stamp, x, 5);
+  ASSERT_TRUE(a) << "the graph never answered";
   EXPECT_EQ(a->ego_motion_source, "tf");
   EXPECT_EQ(a->ego_motion_status, "measured");
   EXPECT_NEAR(a->ego_twist.linear.x, 2.0, 1e-3);
@@ -126,6 +143,77 @@ TEST_F(EgoMotionFaults, EveryFrameIsAnsweredWhateverThePosesDo) {
   // first frame starts the tracks, it does not restart them.
   EXPECT_EQ(counter("ego motion restarts of the tracks"), 2);
   EXPECT_GE(counter("ego motion frames: extrapolated"), 4);
+}
+
+// The mount of "lidar_without_tf" never comes: four such clouds 0.1 s apart each wait max_wait_s
+// (1 s here), while the next ones, and then a cloud whose transforms are all there, are received
+// and queued behind them (a diagnostics report, at 1 Hz, sees several waiting at once); then each
+// goes on in its own frame (counted) and the good one right after them, in base_link.
+TEST_F(EgoMotionFaults, CloudWithoutItsTransformWaitsWithoutBlockingTheNext) {
+  ros::Time stamp;
+  const ros::Duration dt(0.1);
+  double x = 0.0;
+  ObstacleArray::ConstPtr a = start(stamp, x, 3);
+  ASSERT_TRUE(a) << "the graph never answered";
+  ASSERT_EQ(a->ego_motion_status, "measured");
+  ASSERT_TRUE(waitFor([&] { return counter("transform waits timed out") >= 0; }, 5.0))
+      << "no counter for transforms that did not come in time";
+  const long received_before = counter("clouds received");
+  const long failures_before = counter("transform failures");
+  const long timeouts_before = counter("transform waits timed out");
+
+  sensor_msgs::PointCloud2 orphan;
+  orphan.height = 1;
+  orphan.width = 1000;
+  orphan.point_step = 12;
+  orphan.row_step = 12000;
+  orphan.fields.resize(3);
+  for (int i = 0; i < 3; ++i) {
+    orphan.fields[i].name = std::string(1, static_cast<char>('x' + i));
+    orphan.fields[i].offset = 4 * i;
+    orphan.fields[i].datatype = sensor_msgs::PointField::FLOAT32;
+    orphan.fields[i].count = 1;
+  }
+  orphan.data.assign(12000, 0);
+  for (std::size_t k = 0; k < 1000; ++k) {
+    const float p[3] = {5.0f + 0.001f * k, 0.0f, 0.5f};
+    std::memcpy(&orphan.data[12 * k], p, sizeof(p));
+  }
+  orphan.header.frame_id = "lidar_without_tf";
+  std::vector<ros::Time> orphans;
+  const ros::WallTime sent = ros::WallTime::now();
+  for (int i = 0; i < 4; ++i) {
+    orphan.header.stamp = stamp += dt;
+    orphans.push_back(orphan.header.stamp);
+    g_.publishRaw(boost::make_shared<sensor_msgs::PointCloud2>(orphan));
+    ros::WallDuration(0.1).sleep();
+  }
+  const ros::Time good_stamp = stamp += dt;
+  ObstacleArray::ConstPtr good = frame(good_stamp, true, x += 1.0);
+  const double answered_s = (ros::WallTime::now() - sent).toSec();
+
+  ASSERT_TRUE(good) << "the cloud behind them was not answered";
+  EXPECT_EQ(good->header.frame_id, "base_link");
+  EXPECT_GE(answered_s, 1.3) << "the clouds did not wait for their transform";
+  {
+    std::lock_guard<std::mutex> l(g_.recorder().mutex);
+    const auto& d = g_.recorder().detections;
+    const auto at = [&](const ros::Time& s) {
+      return std::find_if(d.begin(), d.end(), [&](const ObstacleArray::ConstPtr& m) { return m->header.stamp == s; });
+    };
+    for (const ros::Time& s : orphans) {
+      ASSERT_NE(at(s), d.end()) << "the cloud stamped " << s << " without its transform was not answered";
+      EXPECT_EQ((*at(s))->header.frame_id, "lidar_without_tf");
+      EXPECT_LT(at(s), at(good_stamp)) << "the clouds went out of order";
+    }
+  }
+  EXPECT_GE(most_waiting_.load(), 2) << "no report saw clouds waiting together: the callback blocked";
+  EXPECT_TRUE(waitFor([&] {
+    return counter("transform failures") == failures_before + 4 &&
+           counter("transform waits timed out") == timeouts_before + 4 &&
+           counter("clouds received") >= received_before + 5;
+  }, 5.0)) << "transform failures " << counter("transform failures") << ", waits timed out "
+           << counter("transform waits timed out");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // mean is icanc::EgoMotion's.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -29,21 +30,32 @@ class EgoPoseSource {
   EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source, const std::string& fixed_frame,
                 tf2_ros::Buffer& tf);
 
-  // The pose of vehicle_frame in the fixed frame at `stamp`, waiting at most max_wait_s (wall
-  // clock: the source may publish a moment after the cloud arrives). After kMissesBeforeNoWait
-  // clouds in a row without a pose it stops waiting until a pose comes again, so a source that is
-  // configured but silent costs no latency on every cloud; the first cloud waits like the others
-  // (a replay's first frame must not depend on which message arrived first). False, with the
-  // reason, when there is none by then (the caller extrapolates and counts).
-  bool lookup(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
+  // The pose of vehicle_frame in the fixed frame at `stamp`, as it is now: never waits (the
+  // cloud waited for it in CloudTransformQueue). False, with the reason, when there is none (the
+  // caller extrapolates and counts).
+  bool lookup(const ros::Time& stamp, const std::string& vehicle_frame,
               Eigen::Isometry3d& fixed_T_vehicle, std::string& why);
+
+  // Whether lookup would find the pose now (what a waiting cloud is released on).
+  bool available(const ros::Time& stamp, const std::string& vehicle_frame);
+
+  // Whether a cloud should wait for its pose: after kMissesBeforeNoWait lookups in a row without
+  // one it is not, until a pose comes again, so a source that is configured but silent costs no
+  // latency on every cloud; the first cloud waits like the others (a replay's first frame must
+  // not depend on which message arrived first).
+  bool worthWaiting() const { return consecutive_misses_ < kMissesBeforeNoWait; }
+
+  // Called (on the odometry's thread) after each odometry message: a cloud may wait for it.
+  void setOnPose(std::function<void()> on_pose);
+
+  EgoMotionSource source() const { return source_; }
 
   static constexpr int kMissesBeforeNoWait = 3;
 
  private:
-  bool lookupTf(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
-                Eigen::Isometry3d& pose, std::string& why);
-  bool lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame, double max_wait_s,
+  bool lookupTf(const ros::Time& stamp, const std::string& vehicle_frame, Eigen::Isometry3d& pose,
+                std::string& why);
+  bool lookupOdometry(const ros::Time& stamp, const std::string& vehicle_frame,
                       Eigen::Isometry3d& pose, std::string& why);
   bool interpolateOdometry(const ros::Time& stamp, Eigen::Isometry3d& pose, std::string& child,
                            std::string& why);
@@ -56,10 +68,10 @@ class EgoPoseSource {
   StampedHistory<Eigen::Isometry3d> odometry_;  // by stamp (toSec()), the last few seconds
   std::string odometry_child_frame_;
   int consecutive_misses_ = 0;  // lookups in a row that found no pose
-  // The odometry on a queue and a thread of its own: a cloud's callback waits max_wait_s for the
-  // odometry at its stamp, and on the nodelet manager's threads that odometry can be queued behind
-  // the waiting callback (on 2 cores it was, in every run of the rostest odometry_source). Last:
-  // unsubscribed and joined before what the callback touches goes.
+  std::function<void()> on_pose_;  // under mutex_
+  // The odometry on a queue and a thread of its own, so that it arrives whatever the nodelet
+  // manager's threads are busy with. Last: unsubscribed and joined before what the callback
+  // touches goes.
   ros::CallbackQueue odom_queue_;
   std::unique_ptr<ros::AsyncSpinner> odom_spinner_;
   ros::Subscriber odom_sub_;

@@ -1,0 +1,38 @@
+// The ObstacleDetector's throttled warnings for each frame and the counters of its diagnostics,
+// from what DetectorPipeline and CloudTransformQueue report: ROS glue over their counters.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+
+#include "icanc/core/perception/detector_pipeline.hpp"
+#include "icanc/ros/cloud_transform_queue.hpp"
+
+namespace icanc {
+
+class DetectorStatus {
+ public:
+  DetectorStatus(const std::string& log_name = "", const std::string& target_frame = "",
+                 const std::string& fixed_frame = "")
+      : log_name_(log_name), target_frame_(target_frame), fixed_frame_(fixed_frame) {}
+
+  // Warns (throttled) about a missing transform or pose, a reset of the tracks, a rejected ground.
+  void logFrame(const DetectorPipeline& pipeline, const DetectorPipelineResult& r,
+                const CloudTransformQueue::Transforms& t, const std::string& cloud_frame,
+                double stamp_s);
+
+  // WARN naming the first kind of fault that grew since the last report (invalid clouds,
+  // transforms missing or late, ego motion, ground), else OK; then the counters.
+  void addTo(diagnostic_updater::DiagnosticStatusWrapper& stat, const DetectorPipelineCounters& c,
+             EgoMotionSource source, const CloudTransformQueue::Stats& waits);
+
+ private:
+  void logGround(const ObstacleDetector& detector, const std::string& frame);
+
+  std::string log_name_, target_frame_, fixed_frame_;
+  std::uint64_t reported_[4] = {0, 0, 0, 0};  // fault counts at the last report
+};
+
+}  // namespace icanc
