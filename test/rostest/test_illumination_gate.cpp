@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "icanc/IlluminationState.h"
+#include "icanc/core/camera/illumination.hpp"
 #include "camera_images.hpp"
 #include "graph_fixture.hpp"
 
@@ -39,8 +40,9 @@ TEST(IlluminationGate, NoDangerLampInDaylightButAtNight) {
   ASSERT_TRUE(g.waitForGraph()) << "icanc graph did not come up";
   ASSERT_TRUE(waitFor([&] { return image_pub.getNumSubscribers() > 0 && illum_sub.getNumPublishers() > 0; }, 30.0))
       << "IlluminationMonitor not loaded by icanc.launch camera_image_topic:=...";
+  // The profile's value, or the code's default where the profile leaves it out.
   double dwell = 0.0;
-  ASSERT_TRUE(ros::param::get("/icanc/illumination_monitor/min_dwell_s", dwell));
+  ros::param::param("/icanc/illumination_monitor/min_dwell_s", dwell, IlluminationParams().min_dwell_s);
   bool gate = false;
   ASSERT_TRUE(ros::param::get("/icanc/light_controller/illumination/enabled", gate));
   ASSERT_TRUE(gate);
@@ -145,8 +147,8 @@ TEST(IlluminationGate, MalformedImagesAreCountedAndTheStateGoesUnknown) {
       });
   ASSERT_TRUE(waitFor([&] { return image_pub.getNumSubscribers() > 0 && illum_sub.getNumPublishers() > 0; }, 30.0));
   double dwell = 0.0, stale = 0.0;
-  ASSERT_TRUE(ros::param::get("/icanc/illumination_monitor/min_dwell_s", dwell));
-  ASSERT_TRUE(ros::param::get("/icanc/illumination_monitor/stale_timeout_s", stale));
+  ros::param::param("/icanc/illumination_monitor/min_dwell_s", dwell, IlluminationParams().min_dwell_s);
+  ros::param::param("/icanc/illumination_monitor/stale_timeout_s", stale, IlluminationParams().stale_timeout_s);
   const auto publishFor = [&](double seconds, const std::function<void(const ros::Time&)>& send) {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
     while (ros::ok() && ros::WallTime::now() < end) {
