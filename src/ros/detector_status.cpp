@@ -91,17 +91,17 @@ void DetectorStatus::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat,
     const auto it = c.ego.find(s);
     return it == c.ego.end() ? std::uint64_t{0} : it->second;
   };
-  const std::uint64_t faults[4] = {
-      invalid, waits.mount_missing + waits.timed_out,
-      ego(EgoStep::Status::kExtrapolated) + ego(EgoStep::Status::kJump) + ego(EgoStep::Status::kLost),
-      c.ground_retried + c.ground_rejected + c.ground_absent};
   const char* const what[4] = {"invalid clouds dropped", "transform to target frame missing or late",
                                "ego motion extrapolated, jumped or lost",
                                "ground plane rejected or absent"};
-  stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
-  for (int i = 3; i >= 0; --i)  // the first kind that grew names the status
-    if (faults[i] > reported_[i]) stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, what[i]);
-  std::copy(faults, faults + 4, reported_);
+  const int grown = faults_.firstGrown(
+      {invalid, waits.mount_missing + waits.timed_out,
+       ego(EgoStep::Status::kExtrapolated) + ego(EgoStep::Status::kJump) + ego(EgoStep::Status::kLost),
+       c.ground_retried + c.ground_rejected + c.ground_absent});
+  if (grown < 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, what[grown]);
   stat.add("ego motion source", toString(source));
   std::map<EgoStep::Status, std::uint64_t> frames = c.ego;  // the faults listed even at zero
   for (const auto s : {EgoStep::Status::kExtrapolated, EgoStep::Status::kJump, EgoStep::Status::kLost})

@@ -7,6 +7,7 @@
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 
+#include "icanc/core/common/status_report.hpp"
 #include "icanc/core/perception/detector_pipeline.hpp"
 #include "icanc/ros/cloud_transform_queue.hpp"
 
@@ -32,7 +33,7 @@ class DetectorStatus {
   void logGround(const ObstacleDetector& detector, const std::string& frame);
 
   std::string log_name_, target_frame_, fixed_frame_;
-  std::uint64_t reported_[4] = {0, 0, 0, 0};  // fault counts at the last report
+  FaultGrowth faults_;  // the fault kinds counted at the last report
 };
 
 }  // namespace icanc

@@ -117,21 +117,14 @@ StatusReport OdometryFeed::report(double last_ms) {
     stat.add(std::string("invalid clouds: ") + toString(kv.first), kv.second);
   }
   const LidarOdometryCounters& c = odometry_.counters();
-  if (invalid > reported_invalid_)
-    stat.summary(StatusLevel::kWarn, "invalid clouds dropped");
-  else if (tf_failures_ > reported_tf_failures_)
-    stat.summary(StatusLevel::kWarn, "transform to base frame missing");
-  else if (invalid_speeds_ > reported_invalid_speeds_ || speed_missing_ > reported_speed_missing_)
-    stat.summary(StatusLevel::kWarn, "vehicle speed invalid or missing");
-  else if (c.degenerate + c.extrapolated > reported_prior_)
-    stat.summary(StatusLevel::kWarn, "poses from the motion prior");
-  else
+  const char* const what[4] = {"invalid clouds dropped", "transform to base frame missing",
+                               "vehicle speed invalid or missing", "poses from the motion prior"};
+  const int grown = faults_.firstGrown({invalid, tf_failures_, invalid_speeds_ + speed_missing_,
+                                        c.degenerate + c.extrapolated});
+  if (grown < 0)
     stat.summary(StatusLevel::kOk, "ok");
-  reported_invalid_ = invalid;
-  reported_tf_failures_ = tf_failures_;
-  reported_prior_ = c.degenerate + c.extrapolated;
-  reported_invalid_speeds_ = invalid_speeds_;
-  reported_speed_missing_ = speed_missing_;
+  else
+    stat.summary(StatusLevel::kWarn, what[grown]);
   const LidarOdometryStats& s = odometry_.lastStats();
   stat.add("clouds received", received_);
   stat.add("odometry published", published_);

@@ -40,4 +40,24 @@ struct StatusReport {
   std::string value(const std::string& key) const;
 };
 
+// Fault counters (each only grows) in the order their kinds name a status: which kind grew since
+// the last report. A diagnostics report WARNs with the first that did, then OK again once none
+// grows.
+class FaultGrowth {
+ public:
+  // The index of the first count above the one seen at the last call, or -1; the counts are kept.
+  int firstGrown(const std::vector<std::uint64_t>& counts) {
+    seen_.resize(counts.size(), 0);
+    int first = -1;
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+      if (first < 0 && counts[i] > seen_[i]) first = static_cast<int>(i);
+      seen_[i] = counts[i];
+    }
+    return first;
+  }
+
+ private:
+  std::vector<std::uint64_t> seen_;
+};
+
 }  // namespace icanc

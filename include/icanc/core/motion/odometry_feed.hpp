@@ -70,9 +70,8 @@ class OdometryFeed {
   TwistHistory speeds_;
   std::map<DecodeError, std::uint64_t> invalid_;
   std::uint64_t received_ = 0, published_ = 0, tf_failures_ = 0;
-  std::uint64_t reported_invalid_ = 0, reported_tf_failures_ = 0, reported_prior_ = 0;
+  FaultGrowth faults_;  // the fault kinds counted at the last report
   std::uint64_t invalid_speeds_ = 0, speed_missing_ = 0, speed_restarts_ = 0;
-  std::uint64_t reported_invalid_speeds_ = 0, reported_speed_missing_ = 0;
   LogThrottle invalid_twist_log_{1.0}, restart_log_{1.0}, missing_log_{5.0}, invalid_cloud_log_{1.0};
   LogThrottle tf_log_{5.0}, reset_log_{1.0}, seeded_log_{10.0}, degenerate_log_{1.0}, extrapolated_log_{1.0};
 };
