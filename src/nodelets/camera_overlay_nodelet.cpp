@@ -40,7 +40,8 @@ class CameraOverlayNodelet : public nodelet::Nodelet {
     if (!checkParams(getName(), reader, why)) return;
 
     tf_buffer_.reset(new tf2_ros::Buffer);
-    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
+    // /tf on this nodelet's own callback queue: no thread polling for it.
+    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh, /*spin_thread=*/false));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "camera"));
     diagnostics_->updater().add("camera overlay", this, &CameraOverlayNodelet::diagnose);
     it_.reset(new image_transport::ImageTransport(nh));

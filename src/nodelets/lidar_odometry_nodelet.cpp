@@ -61,7 +61,8 @@ class LidarOdometryNodelet : public nodelet::Nodelet {
 
     feed_.reset(new OdometryFeed(params, feed, feed.twist_topic.empty() ? "" : nh.resolveName(feed.twist_topic)));
     tf_buffer_.reset(new tf2_ros::Buffer());
-    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
+    // /tf on this nodelet's own callback queue: no thread polling for it.
+    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh, /*spin_thread=*/false));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "lidar"));
     diagnostics_->updater().add("lidar odometry", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
       std::lock_guard<std::mutex> lock(mutex_);

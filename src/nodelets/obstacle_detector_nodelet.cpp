@@ -73,7 +73,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     status_ = DetectorStatus(getName(), target_frame_, fixed_frame_);
     pipeline_.reset(new DetectorPipeline(params, ego, static_cast<std::size_t>(max_points)));
     tf_buffer_.reset(new tf2_ros::Buffer());
-    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh));
+    // /tf on this nodelet's own callback queue: no thread polling for it.
+    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh, /*spin_thread=*/false));
     ego_source_.reset(new EgoPoseSource(nh, ego.source, fixed_frame_, *tf_buffer_));
     // Before the diagnostics: their 1 Hz timer may call diagnose() while onInit still runs.
     live_.reset(new LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>(pnh, params, getName()));

@@ -20,7 +20,9 @@ std::string PlannedPathSource::validate(const Params& p) {
 PlannedPathSource::PlannedPathSource(ros::NodeHandle& nh, const Params& params, const std::string& name)
     : params_(params), name_(name) {
   if (params_.topic.empty()) return;
-  listener_.reset(new tf2_ros::TransformListener(tf_, nh));
+  // /tf on the obstacles' callback queue: its transforms come in order with them, and no thread
+  // polls for them.
+  listener_.reset(new tf2_ros::TransformListener(tf_, nh, /*spin_thread=*/false));
   sub_ = nh.subscribe(params_.topic, 2, &PlannedPathSource::onPath, this);
 }
 
@@ -58,17 +60,13 @@ std::shared_ptr<const EgoPath> PlannedPathSource::at(const ros::Time& stamp, con
     refuse("path stamp farther than path_max_age_s from the obstacles'");
     return nullptr;
   }
-  // The transform at the obstacles' stamp: the ObstacleDetector had it, this listener may get
-  // it a moment later (a bounded wait, wall clock: sim time may stand still in a lockstep
-  // replay); a frame tf has never seen is refused at once.
+  // The transform at the obstacles' stamp, without waiting: this listener runs on the same
+  // callback queue as the obstacles, so the transform the ObstacleDetector used (it came before
+  // them) is here already; one that is not is refused for this frame and counted.
   const std::string frame = bareFrame(msg->header.frame_id), vehicle = bareFrame(vehicle_frame);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kTransformWaitS);
-  while (!tf_.canTransform(vehicle, frame, stamp)) {
-    if (!tf_._frameExists(frame) || ros::WallTime::now() >= deadline || !ros::ok()) {
-      refuse("no transform " + frame + " -> " + vehicle + " at the stamp");
-      return nullptr;
-    }
-    ros::WallDuration(0.002).sleep();
+  if (!tf_.canTransform(vehicle, frame, stamp)) {
+    refuse("no transform " + frame + " -> " + vehicle + " at the stamp");
+    return nullptr;
   }
   Eigen::Isometry3d vehicle_T_path;
   try {

@@ -42,8 +42,6 @@ class PlannedPathSource {
 
   void addTo(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
-  static constexpr double kTransformWaitS = 0.05;
-
  private:
   void onPath(const nav_msgs::Path::ConstPtr& msg);
   void refuse(const std::string& why);
