@@ -348,7 +348,8 @@ void FreeSpaceMotion::buildCurrent() {
       const float nearest = image[pixel];
       image[pixel] = std::min(nearest, range);  // range < nearest ? range : nearest
       const std::int32_t i = static_cast<std::int32_t>(start + k);
-      point_of[pixel] = range < nearest ? i : point_of[pixel];
+      const std::int32_t take = -static_cast<std::int32_t>(range < nearest);  // all ones: this one
+      point_of[pixel] = (i & take) | (point_of[pixel] & ~take);
     }
   }
   current_.written_lo = static_cast<std::int32_t>(std::min<std::uint32_t>(lo, spare));
