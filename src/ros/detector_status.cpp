@@ -82,11 +82,7 @@ void DetectorStatus::logGround(const ObstacleDetector& detector, const std::stri
 void DetectorStatus::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat,
                            const DetectorPipelineCounters& c, EgoMotionSource source,
                            const CloudTransformQueue::Stats& waits) {
-  std::uint64_t invalid = 0;
-  for (const auto& kv : c.invalid) {
-    invalid += kv.second;
-    stat.add(std::string("invalid clouds: ") + toString(kv.first), kv.second);
-  }
+  const std::uint64_t invalid = addCountsByKind(stat, "invalid clouds: ", c.invalid);
   const auto ego = [&](EgoStep::Status s) {
     const auto it = c.ego.find(s);
     return it == c.ego.end() ? std::uint64_t{0} : it->second;
@@ -106,7 +102,7 @@ void DetectorStatus::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat,
   std::map<EgoStep::Status, std::uint64_t> frames = c.ego;  // the faults listed even at zero
   for (const auto s : {EgoStep::Status::kExtrapolated, EgoStep::Status::kJump, EgoStep::Status::kLost})
     frames[s] += 0;
-  for (const auto& kv : frames) stat.add(std::string("ego motion frames: ") + toString(kv.first), kv.second);
+  addCountsByKind(stat, "ego motion frames: ", frames);
   stat.add("ego motion restarts of the tracks", c.ego_restarts);
   stat.add("invalid clouds", invalid);
   stat.add("points dropped (NaN/Inf/zero)", c.dropped_points);
