@@ -81,6 +81,13 @@ geometry_msgs::Twist toTwistMsg(const EgoStep& ego) {
   return twist;
 }
 
+void dangerousBoxes(const ObstacleArray& array, std::vector<Eigen::AlignedBox2d>& boxes) {
+  boxes.clear();
+  for (const Obstacle& o : array.obstacles)
+    if (o.dangerous)
+      boxes.emplace_back(Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y), Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y));
+}
+
 ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego_twist) {
   ObjectKinematics k;
   k.center = Eigen::Vector3d(o.pose.position.x, o.pose.position.y, o.pose.position.z);

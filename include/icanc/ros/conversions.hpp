@@ -10,6 +10,7 @@
 #include <std_msgs/Header.h>
 
 #include "icanc/Obstacle.h"
+#include "icanc/ObstacleArray.h"
 #include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/core/danger/danger.hpp"
 #include "icanc/core/motion/ego_motion.hpp"
@@ -30,6 +31,10 @@ geometry_msgs::Twist toTwistMsg(const EgoStep& ego);
 
 // What the danger rules need of an icanc/Obstacle, with the vehicle's twist of its array.
 ObjectKinematics toKinematics(const Obstacle& obstacle, const geometry_msgs::Twist& ego_twist);
+
+// The x-y of the axis-aligned bounds of the array's obstacles flagged dangerous (what lights the
+// segments of the lamp), into `boxes` (cleared first: reused).
+void dangerousBoxes(const ObstacleArray& array, std::vector<Eigen::AlignedBox2d>& boxes);
 
 // A path of `poses` (in one fixed frame) as the vehicle at `here` (its pose in that frame) sees
 // it: each pose relative to here, every one under `header` (the vehicle frame, the stamp). The
