@@ -1,6 +1,7 @@
 #include "icanc/ros/nodelet_settings.hpp"
 
 #include "icanc/LightControllerConfig.h"
+#include "icanc/core/bridge/light_bridge_host.hpp"
 #include "icanc/ros/live_params.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
@@ -20,6 +21,18 @@ std::string loadSettings(ParamReader& reader, LightControllerSettings& s) {
   if (why.empty()) why = validateRates(s.publish_rate_hz, s.tick_rate_hz);
   reader.read("marker_lifetime_s", s.marker_style.lifetime_s);
   acceptReconfigureKeys<LightControllerConfig>(reader);
+  return why;
+}
+
+std::string loadSettings(ParamReader& reader, LightBridgeSettings& s) {
+  reader.read("port", s.port);
+  reader.read("baud", s.baud);
+  reader.read("reconnect_period_s", s.reconnect_period_s);
+  visitParams(reader, s.params);
+  const std::string rate_problem = readExpectedRate(reader, s.expected_rate_hz);
+  std::string why = validate(s.params);
+  if (why.empty()) why = rate_problem;
+  if (why.empty()) why = validatePort(s.port, s.baud, s.reconnect_period_s);
   return why;
 }
 

@@ -1,10 +1,11 @@
-// What the LightController nodelet reads beyond one core parameter struct, read and validated in
-// one call: loadSettings returns "" or the first problem, which the nodelet hands
+// What the LightController and the LightBridge nodelets read beyond one core parameter struct, read
+// and validated in one call: loadSettings returns "" or the first problem, which the nodelet hands
 // to checkParams (with the reader's wrong types and unknown keys) before it starts.
 #pragma once
 
 #include <string>
 
+#include "icanc/core/bridge/rosserial_session.hpp"
 #include "icanc/core/light/lamp_segments.hpp"
 #include "icanc/core/light/light_controller.hpp"
 #include "icanc/ros/markers.hpp"
@@ -24,5 +25,16 @@ struct LightControllerSettings {
   MarkerStyle marker_style;
 };
 std::string loadSettings(ParamReader& reader, LightControllerSettings& settings);
+
+// The LightBridge's private parameters: the port's (~port, ~baud, ~reconnect_period_s), the
+// session's (LightBridgeParams) and its input's rate.
+struct LightBridgeSettings {
+  LightBridgeParams params;
+  std::string port;                // required
+  int baud = 57600;
+  double reconnect_period_s = 1.0;
+  double expected_rate_hz = 10.0;  // lamp_cmd's rate [Hz]
+};
+std::string loadSettings(ParamReader& reader, LightBridgeSettings& settings);
 
 }  // namespace icanc
