@@ -16,12 +16,12 @@ import html
 import json
 import math
 import os
-import signal
-import socket
 import subprocess
 import sys
 import tempfile
 import time
+
+from launch_util import free_port, stop_group
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OBSTACLES = "/icanc/obstacles_danger"
@@ -116,14 +116,6 @@ def inspect_bag(path, points_topic):
         span = (bag.get_start_time(), bag.get_end_time())
     return {"topics": topics, "points_topic": points_topic, "static_tf": static, "truth": truth,
             "clouds": clouds_n, "span": span, "cloud_cls": cloud_cls}
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("localhost", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
 
 
 # ----------------------------------------------------------------------------- replay
@@ -265,11 +257,7 @@ def replay(args, bag_path, out, profile_path, profile, binfo):
             close()
         for p in (launch, core):
             if p is not None and p.poll() is None:
-                os.killpg(p.pid, signal.SIGINT)
-                try:
-                    p.wait(timeout=15)
-                except subprocess.TimeoutExpired:
-                    os.killpg(p.pid, signal.SIGKILL)
+                stop_group(p, 15)
         log.close()
         subprocess.call(["rm", "-rf", log_dir])
     print("report: replayed %d of %d frames (%s)" % (seen["frames"], total, os.path.join(out, "replay.log")),

@@ -1,10 +1,10 @@
 // icanc/LightBridge: the lamp command (lamp_cmd, std_msgs/Bool) to a rosserial (ros_lib) device on
 // a serial port, and the lamp state the device reports back (lamp_state, std_msgs/Bool). The
-// protocol and the link's state machine are the core's (icanc/rosserial_session.hpp), and so is
-// what is logged, republished and reported (icanc/light_bridge_host.hpp); this nodelet only does
-// I/O: one thread owns the port (open, reopen after an unplug, read, tick), lamp_cmd callbacks
-// write their frame at once. Wall (steady) time drives the link; ROS time
-// answers the device's time requests.
+// protocol and the link's state machine are the core's (icanc/rosserial_session.hpp), and so are
+// what is logged, republished and reported (icanc/light_bridge_host.hpp) and the port's handling
+// (icanc/light_bridge_link.hpp); this nodelet only runs them: one thread owns the port (open,
+// reopen after an unplug, read, tick), lamp_cmd callbacks write their frame at once. Wall (steady)
+// time drives the link; ROS time answers the device's time requests.
 //
 //   ~port (string, required)        serial device, e.g. /dev/ttyACM0 or a /dev/serial/by-id link
 //   ~baud (int, 57600)              9600 ... 921600 (the sketch uses 57600; 115200 supported)
@@ -12,7 +12,7 @@
 //   ~cmd_stale_timeout_s, ~lamp_report_timeout_s, ~frame_timeout_s, ~max_payload_bytes
 //                                   see LightBridgeParams
 //   ~reconnect_period_s (1.0)       reopening attempts while the port is missing [s]
-//   ~device_levels_topic ("")       a segmented lamp (issue 23): lamp_command (icanc/LampCommand)
+//   ~device_levels_topic ("")       a segmented lamp: lamp_command (icanc/LampCommand)
 //       levels, as 0..255, to the device's std_msgs/UInt8MultiArray subscriber of this name
 //   ~link_up (std_msgs/Bool, latched)  true while the device is synced (false on a type mismatch)
 //   lamp_status (icanc/LampState, latched)  stamped: ON / OFF as reported, UNKNOWN_FAILSAFE while
@@ -26,15 +26,15 @@
 #include <mutex>
 #include <thread>
 
-#include <boost/make_shared.hpp>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <std_msgs/Bool.h>
 
 #include "icanc/LampCommand.h"
 #include "icanc/LampState.h"
-#include "icanc/core/bridge/light_bridge_host.hpp"
-#include "icanc/core/bridge/serial_port.hpp"
+#include "icanc/core/bridge/light_bridge_link.hpp"
+#include "icanc/ros/conversions.hpp"
+#include "icanc/ros/nodelet_settings.hpp"
 #include "icanc/ros/nodelet_support.hpp"
 
 namespace icanc {
@@ -43,11 +43,6 @@ namespace {
 
 double steadyNow() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-rosserial::Stamp rosNow() {
-  const ros::Time t = ros::Time::now();
-  return rosserial::Stamp{t.sec, t.nsec};
 }
 
 }  // namespace
@@ -62,13 +57,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     wake_.notify_all();
     if (thread_.joinable()) thread_.join();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (host_ && port_.isOpen()) {
-      SessionOutput out;
-      host_->session().txStop(out);  // the device drops its configuration: lamp fail-safe ON
-      std::string error;
-      port_.write(out.tx.data(), out.tx.size(), true, error);
-    }
-    port_.close();
+    if (link_) link_->stop();  // the device drops its configuration: lamp fail-safe ON
   }
 
  private:
@@ -76,41 +65,33 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     ParamReader reader(pnh);
-    LightBridgeParams params;
-    double reconnect_period_s = 1.0;
-    reader.read("port", port_name_);
-    reader.read("baud", baud_);
-    reader.read("reconnect_period_s", reconnect_period_s);
-    visitParams(reader, params);
-    const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
-    std::string why = validate(params);
-    if (why.empty()) why = rate_problem;
-    if (why.empty()) why = validatePort(port_name_, baud_, reconnect_period_s);
-    if (!checkParams(getName(), reader, why)) return;
+    LightBridgeSettings settings;
+    if (!checkParams(getName(), reader, loadSettings(reader, settings))) return;
+    const LightBridgeParams& params = settings.params;
     const std::string timeout_warning = linkTimeoutWarning(params);
     if (!timeout_warning.empty()) NODELET_WARN("%s", timeout_warning.c_str());
-    host_.reset(new LightBridgeHost(params, port_name_, baud_, reconnect_period_s));
+    link_.reset(new LightBridgeLink(params, settings.port, settings.baud, settings.reconnect_period_s));
 
-    diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight bridge " + port_name_));
+    diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "headlight bridge " + settings.port));
     diagnostics_->updater().add("light bridge", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
       std::lock_guard<std::mutex> lock(mutex_);
-      report(stat, host_->report(steadyNow()));
+      report(stat, link_->host().report(steadyNow()));
     });
     state_pub_ = nh.advertise<std_msgs::Bool>("lamp_state", 10);
     link_pub_ = pnh.advertise<std_msgs::Bool>("link_up", 1, true);
     status_pub_ = nh.advertise<LampState>("lamp_status", 1, true);
     publishBool(link_pub_, false);
-    publishStatus(host_->statusPublished(steadyNow()));
+    publishStatus(link_->host().statusPublished(steadyNow()));
     sub_ = nh.subscribe("lamp_cmd", 10, &LightBridgeNodelet::onCommand, this, ros::TransportHints().tcpNoDelay());
-    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
-    if (!params.device_levels_topic.empty())  // a segmented lamp (issue 23): its levels too
+    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), settings.expected_rate_hz));
+    if (!params.device_levels_topic.empty())  // a segmented lamp: its levels too
       levels_sub_ = nh.subscribe("lamp_command", 10, &LightBridgeNodelet::onLevels, this,
                                  ros::TransportHints().tcpNoDelay());
     running_ = true;
     thread_ = std::thread(&LightBridgeNodelet::ioLoop, this);
     NODELET_INFO("LightBridge: %s at %d baud, device topics '%s' (commands, %.1f Hz heartbeat) and "
                  "'%s' (lamp state), link timeout %.2f s",
-                 port_name_.c_str(), baud_, params.device_cmd_topic.c_str(), params.heartbeat_hz,
+                 settings.port.c_str(), settings.baud, params.device_cmd_topic.c_str(), params.heartbeat_hz,
                  params.device_state_topic.c_str(), params.link_timeout_s);
   }
 
@@ -119,10 +100,9 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     input_->received();
     std::lock_guard<std::mutex> lock(mutex_);
     SessionOutput out;
-    host_->onCommand(msg->data, t0, out);
+    link_->host().onCommand(msg->data, t0, out);
     handle(out, t0);
-    if (out.command_sent && port_.isOpen() && write_error_.empty())
-      host_->onCommandLatency((steadyNow() - t0) * 1000.0);
+    if (link_->commandWritten(out)) link_->host().onCommandLatency((steadyNow() - t0) * 1000.0);
     input_->processed((steadyNow() - t0) * 1000.0);
   }
 
@@ -131,7 +111,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
     const double now = steadyNow();
     std::lock_guard<std::mutex> lock(mutex_);
     SessionOutput out;
-    host_->onLevels(msg->levels, now, out);
+    link_->host().onLevels(msg->levels, now, out);
     handle(out, now);
   }
 
@@ -141,19 +121,13 @@ class LightBridgeNodelet : public nodelet::Nodelet {
       {
         std::unique_lock<std::mutex> lock(mutex_);
         if (!running_) return;
-        if (!port_.isOpen()) {
+        if (!link_->isOpen()) {
           const double now = steadyNow();
           SessionOutput out;
           HostActions actions;
-          std::string error;
-          if (host_->openDue(now)) {
-            if (port_.open(port_name_, baud_, error))
-              host_->onOpened(now, out, actions);
-            else
-              host_->onOpenFailed(error, now, actions);
-          }
+          link_->openIfDue(now, out, actions);
           handle(out, now, actions);  // keeps lamp_status fresh (UNKNOWN_FAILSAFE at 1 Hz)
-          if (!port_.isOpen()) {
+          if (!link_->isOpen()) {
             wake_.wait_for(lock, std::chrono::milliseconds(20));
             continue;
           }
@@ -161,68 +135,31 @@ class LightBridgeNodelet : public nodelet::Nodelet {
       }
       // Only this thread opens and closes the port, so reading outside the lock is safe.
       std::string error;
-      const long n = port_.read(buf.data(), buf.size(), 0.01, error);
+      const long n = link_->read(buf.data(), buf.size(), 0.01, error);
       std::lock_guard<std::mutex> lock(mutex_);
       const double now = steadyNow();
       SessionOutput out;
       HostActions actions;
-      if (n < 0 || !write_error_.empty()) {
-        lost(n < 0 ? error : write_error_, now, out, actions);
-      } else if (host_->presenceCheckDue(now) && !port_.stillPresent()) {
-        lost("the path no longer names the opened device", now, out, actions);
-      }
-      if (port_.isOpen()) {
-        const rosserial::Stamp ros_now = rosNow();
-        if (n > 0) host_->session().onBytes(buf.data(), static_cast<std::size_t>(n), now, ros_now, out);
-        host_->session().tick(now, ros_now, out);
-      }
+      link_->afterRead(n, error, buf.data(), now, toStamp(ros::Time::now()), out, actions);
       handle(out, now, actions);
     }
   }
 
-  // With mutex_ held.
-  void lost(const std::string& why, double now, SessionOutput& out, HostActions& actions) {
-    write_error_.clear();
-    port_.close();
-    host_->onLost(why, now, out, actions);
-  }
-
   // Writes the session's bytes, then logs and publishes what the host decides. With mutex_ held.
   void handle(SessionOutput& out, double now, HostActions actions = HostActions()) {
-    if (!out.tx.empty() && port_.isOpen() && write_error_.empty()) {
-      std::string error;
-      if (port_.write(out.tx.data(), out.tx.size(), true, error))
-        host_->onWritten(out.tx.size());
-      else
-        write_error_ = error;  // the I/O thread closes the port (it may be polling it now)
-    }
-    host_->afterStep(out, now, actions);
+    link_->finish(out, now, actions);
     for (const LogLine& line : actions.logs) log(getName(), line);
     for (bool on : actions.lamp_states) publishBool(state_pub_, on);
     if (actions.publish_link) publishBool(link_pub_, actions.link_up);
     if (actions.publish_status) publishStatus(actions.status);
   }
 
-  static void publishBool(ros::Publisher& pub, bool value) {
-    auto msg = boost::make_shared<std_msgs::Bool>();
-    msg->data = value;
-    pub.publish(std_msgs::Bool::ConstPtr(msg));
-  }
-
   void publishStatus(const LampStatusSnapshot& status) {
-    auto msg = boost::make_shared<LampState>();
-    msg->header.stamp = ros::Time::now();
-    msg->state = static_cast<std::uint8_t>(status.status);
-    msg->link_up = status.link_up;
-    msg->commanded_on = status.commanded_on;
-    status_pub_.publish(LampState::ConstPtr(msg));
+    status_pub_.publish(toLampStateMsg(status, ros::Time::now()));
   }
 
-  std::string port_name_;
-  int baud_ = 57600;
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;  // lamp_cmd (the LightController publishes >= publish_rate_hz)
-  double expected_rate_hz_ = 10.0;
   ros::Publisher state_pub_, link_pub_, status_pub_;
   ros::Subscriber sub_, levels_sub_;
   std::thread thread_;
@@ -230,9 +167,7 @@ class LightBridgeNodelet : public nodelet::Nodelet {
 
   std::mutex mutex_;  // everything below: the I/O thread, lamp_cmd callbacks, diagnostics
   bool running_ = false;
-  std::unique_ptr<LightBridgeHost> host_;
-  SerialPort port_;
-  std::string write_error_;  // set by a failed write, the I/O thread then closes the port
+  std::unique_ptr<LightBridgeLink> link_;  // the port and the host deciding over it
 };
 
 }  // namespace icanc

@@ -1,8 +1,9 @@
 // icanc/LightController: the paper's timer state machine (icanc/light_controller.hpp) over the
 // DangerDetector's output, with the segmented lamp, both fed by icanc/lamp_control.hpp. Publishes
 // icanc/LightState and std_msgs/Bool on every change and at a steady rate, and the lamp as rviz
-// markers on `markers` while someone listens. Time is ROS time (sim time during replay).
-// Beside it, the segmented lamp (issue 23, icanc/segmented_light_controller.hpp): the dangerous
+// markers on `markers` while someone listens (icanc/lamp_publisher.hpp). Time is ROS time (sim
+// time during replay).
+// Beside it, the segmented lamp (icanc/segmented_light_controller.hpp): the dangerous
 // boxes of the same ObstacleArray light the segments that see them; icanc/LampCommand on
 // `lamp_command`, wedges on `~lamp_segments` while someone listens. `lamp_cmd` stays the paper's
 // binary lamp (with the default one-segment lamp it is exactly "any segment on").
@@ -10,21 +11,18 @@
 #include <mutex>
 #include <vector>
 
-#include <boost/make_shared.hpp>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
-#include <std_msgs/Bool.h>
 
 #include "icanc/IlluminationState.h"
-#include "icanc/LampCommand.h"
 #include "icanc/LightControllerConfig.h"
-#include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
 #include "icanc/core/light/lamp_control.hpp"
+#include "icanc/ros/conversions.hpp"
+#include "icanc/ros/lamp_publisher.hpp"
 #include "icanc/ros/live_params.hpp"
-#include "icanc/ros/markers.hpp"
+#include "icanc/ros/nodelet_settings.hpp"
 #include "icanc/ros/nodelet_support.hpp"
-#include "icanc/ros/zero_copy.hpp"
 
 namespace icanc {
 
@@ -34,27 +32,17 @@ class LightControllerNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     ParamReader reader(pnh);
-    LightControllerParams params;
-    readParams(reader, params);
-    SegmentLampParams lamp;
-    readParams(reader, lamp);
-    fault_levels_ = faultLevels(lamp);
-    reader.read("publish_rate_hz", publish_rate_hz_);
-    reader.read("tick_rate_hz", tick_rate_hz_);
-    bool trace = false;
-    reader.read("trace_publications", trace);  // read by ZeroCopyPublisher
-    const std::string rate_problem = readExpectedRate(reader, expected_rate_hz_);
-    std::string why = validate(params);
-    if (why.empty()) why = validate(lamp);
-    if (why.empty()) why = rate_problem;
-    if (why.empty()) why = validateRates(publish_rate_hz_, tick_rate_hz_);
-    reader.read("marker_lifetime_s", marker_style_.lifetime_s);
-    acceptReconfigureKeys<LightControllerConfig>(reader);
+    LightControllerSettings settings;
+    const std::string why = loadSettings(reader, settings);
+    const LightControllerParams& params = settings.params;
+    fault_levels_ = faultLevels(settings.lamp);
+    publish_rate_hz_ = settings.publish_rate_hz;
+    tick_rate_hz_ = settings.tick_rate_hz;
     if (!checkParams(getName(), reader, why)) {
       startFault(reader.error().empty() ? why : reader.error());
       return;
     }
-    control_.reset(new LampControl(params, lamp));
+    control_.reset(new LampControl(params, settings.lamp));
 
     // Before the diagnostics: their 1 Hz timer may call diagnose() (which reads live_) while
     // onInit is still running on a loaded machine.
@@ -65,13 +53,9 @@ class LightControllerNodelet : public nodelet::Nodelet {
       report(stat, control_->report());
       live_->addTo(stat);
     });
-    state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
-    lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
-    marker_pub_ = nh.advertise<visualization_msgs::MarkerArray>("markers", 5);
-    command_pub_ = nh.advertise<LampCommand>("lamp_command", 10);
-    segment_marker_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("lamp_segments", 2);
+    lamp_.advertise(nh, pnh, true, settings.marker_style);
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
-    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), expected_rate_hz_));
+    input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), settings.expected_rate_hz));
     timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
     // A tick slower than the watchdog's own rate must not delay the fail-safe lamp: the watchdog
     // then gets a timer of its own (icanc::kWatchdogRateHz).
@@ -101,9 +85,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
     diagnostics_->updater().add("light controller", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) {
       report(stat, faultReport(fault_));
     });
-    state_pub_.advertise<LightState>(nh, pnh, "light_state", 10);
-    lamp_pub_ = nh.advertise<std_msgs::Bool>("lamp_cmd", 10);
-    command_pub_ = nh.advertise<LampCommand>("lamp_command", 10);
+    lamp_.advertise(nh, pnh, false);
     timer_ = nh.createTimer(ros::Duration(1.0 / faultPublishRate(publish_rate_hz_)), [this](const ros::TimerEvent&) {
       std::lock_guard<std::mutex> lock(mutex_);
       publish(ros::Time::now(), false);
@@ -117,20 +99,10 @@ class LightControllerNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     applyTunedParams();
     const ros::Time now = ros::Time::now();
-    if (!msg->header.frame_id.empty()) marker_frame_ = msg->header.frame_id;
-    input_stamp_ = msg->header.stamp;
-    input_receive_time_ = msg->cloud_receive_time;
-    boxes_.clear();  // the dangerous boxes, x-y of their axis-aligned bounds
-    for (const Obstacle& o : msg->obstacles)
-      if (o.dangerous)
-        boxes_.emplace_back(Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y), Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y));
+    dangerousBoxes(*msg, boxes_);
     const LampControl::InputResult result =
         control_->onInput(now.toSec(), msg->num_dangerous, msg->sensor_blind, boxes_);
-    if (result.triggered) {
-      trigger_cloud_stamp_ = msg->header.stamp;
-      trigger_receive_time_ = msg->cloud_receive_time;
-      trigger_dangerous_ = msg->num_dangerous;
-    }
+    lamp_.onInput(*msg, result.triggered);
     if (result.unlocated)
       NODELET_ERROR_THROTTLE(5.0, "num_dangerous %u but %zu obstacles flagged dangerous: every lamp "
                              "segment on", msg->num_dangerous, boxes_.size());
@@ -165,7 +137,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
                    control_->binary().params().stale_timeout_s);
     // ROS durations, not differences of seconds: a replay's publications fall on the same ticks.
     const bool due = steady_publication &&
-                     ((now - last_publish_).toSec() >= 1.0 / publish_rate_hz_ || now < last_publish_);
+                     ((now - lamp_.lastPublished()).toSec() >= 1.0 / publish_rate_hz_ ||
+                      now < lamp_.lastPublished());
     if (changed || due) publish(now, false);
   }
 
@@ -178,44 +151,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
   // The lamp on every topic: the controller's, or every segment ON (REASON_FAULT) on the fault
   // path (no controller). With mutex_ held.
   void publish(const ros::Time& now, bool answers_input) {
-    auto state = boost::make_shared<LightState>();
-    auto command = boost::make_shared<LampCommand>();
-    state->header.stamp = command->header.stamp = now;
-    if (control_) {
-      const LightController& binary = control_->binary();
-      state->on = binary.on();
-      state->reason = static_cast<std::uint8_t>(binary.reason());
-      state->time_left = static_cast<float>(binary.timeLeft(now.toSec()));
-      command->levels = control_->segmented().levels();
-      command->reason = static_cast<std::uint8_t>(control_->segmented().reason());
-      control_->published(state->on);
-    } else {
-      state->on = true;
-      state->reason = command->reason = static_cast<std::uint8_t>(LightReason::kFault);
-      command->levels = fault_levels_;
-    }
-    state->reason_text = toString(static_cast<LightReason>(state->reason));
-    command->reason_text = toString(static_cast<LightReason>(command->reason));
-    state->dangerous_objects = trigger_dangerous_;
-    state->cloud_stamp = trigger_cloud_stamp_;
-    state->cloud_receive_time = trigger_receive_time_;
-    state->input_stamp = command->input_stamp = input_stamp_;
-    if (answers_input && !input_receive_time_.isZero())
-      state->input_latency_ms = command->input_latency_ms = static_cast<float>(
-          (ros::WallTime::now().toSec() - input_receive_time_.toSec()) * 1e3);
-    auto lamp = boost::make_shared<std_msgs::Bool>();
-    lamp->data = state->on;
-    last_publish_ = now;
-    // The levels before the binary lamp, so a board that follows both does not see the new ON
-    // with the previous levels (the sketch also lights every segment for ON with all levels 0).
-    command_pub_.publish(LampCommand::ConstPtr(command));
-    state_pub_.publish(LightState::ConstPtr(state));
-    lamp_pub_.publish(std_msgs::Bool::ConstPtr(lamp));
-    if (marker_pub_.getNumSubscribers() > 0) marker_pub_.publish(lampMarkers(*state, marker_frame_, marker_style_));
-    if (control_ && segment_marker_pub_.getNumSubscribers() > 0)
-      segment_marker_pub_.publish(segmentMarkers(*command, control_->segmented().segments(),
-                                                 control_->segmented().lamp().lamp_position_m,
-                                                 marker_frame_, 20.0, marker_style_));
+    lamp_.publish(now, control_.get(), fault_levels_, answers_input);
   }
 
   std::unique_ptr<LampControl> control_;
@@ -223,12 +159,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
   std::vector<float> fault_levels_;         // levels published by the fault path
   std::unique_ptr<Diagnostics> diagnostics_;
   std::unique_ptr<InputMonitor> input_;
-  double expected_rate_hz_ = 10.0;
-  ZeroCopyPublisher state_pub_;
+  LampPublisher lamp_;  // the lamp's topics and what their messages carry besides the lamp
   std::unique_ptr<LiveParams<LightControllerConfig, LightControllerParams>> live_;
-  ros::Publisher lamp_pub_, marker_pub_, command_pub_, segment_marker_pub_;
-  MarkerStyle marker_style_;
-  std::string marker_frame_ = "base_link";  // the input's frame once it flows
   ros::Subscriber sub_;
   ros::Subscriber illumination_sub_;
   ros::Timer timer_;
@@ -237,11 +169,6 @@ class LightControllerNodelet : public nodelet::Nodelet {
   double tick_rate_hz_ = 50.0;
 
   std::mutex mutex_;  // subscriber, timer and diagnostics callbacks
-  ros::Time last_publish_;
-  ros::Time trigger_cloud_stamp_;
-  ros::Time trigger_receive_time_;
-  ros::Time input_stamp_, input_receive_time_;
-  std::uint32_t trigger_dangerous_ = 0;
   std::string fault_;  // why the controller could not start ("" when it runs)
 };
 

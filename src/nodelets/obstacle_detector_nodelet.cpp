@@ -53,29 +53,17 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     if (!checkParams(getName(), reader, why)) return;
     // The vehicle's own motion: the namespace's ego_motion section, shared with LidarOdometry.
     ParamReader ego_reader(ros::NodeHandle(nh, "ego_motion"));
-    EgoMotionParams ego;
-    std::string source = toString(ego.source);
-    ego_reader.read("source", source);
-    ego.source = parseEgoMotionSource(source);
-    ego_reader.read("fixed_frame", fixed_frame_);
-    ego_reader.read("max_speed_mps", ego.max_speed_mps);
-    ego_reader.read("max_yaw_rate_rad_s", ego.max_yaw_rate_rad_s);
-    ego_reader.read("max_wait_s", ego.max_wait_s);
-    ego_reader.read("replay_max_wait_s", ego.replay_max_wait_s);
-    ego_reader.read("max_extrapolation_s", ego.max_extrapolation_s);
-    ego_reader.accept("publish_tf");  // LidarOdometry's
-    std::string ego_why = validate(ego);
-    if (ego_why.empty() && fixed_frame_.empty()) ego_why = "ego_motion/fixed_frame must not be empty";
-    if (ego_why.empty() && ego.source != EgoMotionSource::kNone && target_frame_.empty())
-      ego_why = "ego_motion/source " + source + " needs ~target_frame (the vehicle frame)";
-    if (!checkParams(getName(), ego_reader, ego_why)) return;
+    EgoMotionSection ego_section;
+    if (!checkParams(getName(), ego_reader, loadEgoMotion(ego_reader, target_frame_, ego_section))) return;
+    const EgoMotionParams& ego = ego_section.params;
+    const std::string& fixed_frame = ego_section.fixed_frame;
 
-    status_ = DetectorStatus(getName(), target_frame_, fixed_frame_);
+    status_ = DetectorStatus(getName(), target_frame_, fixed_frame);
     pipeline_.reset(new DetectorPipeline(params, ego, static_cast<std::size_t>(max_points)));
     tf_buffer_.reset(new tf2_ros::Buffer());
     // /tf on this nodelet's own callback queue: no thread polling for it.
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh, /*spin_thread=*/false));
-    ego_source_.reset(new EgoPoseSource(nh, ego.source, fixed_frame_, *tf_buffer_));
+    ego_source_.reset(new EgoPoseSource(nh, ego.source, fixed_frame, *tf_buffer_));
     // Before the diagnostics: their 1 Hz timer may call diagnose() while onInit still runs.
     live_.reset(new LiveParams<ObstacleDetectorConfig, ObstacleDetectorParams>(pnh, params, getName()));
     diagnostics_.reset(new Diagnostics(nh, pnh, getName(), "lidar"));
@@ -92,7 +80,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
                  sub_.getTopic().c_str(), nh.resolveName("obstacles").c_str(),
                  target_frame_.empty() ? "<cloud frame>" : target_frame_.c_str(), toString(ego.source),
                  ego.source == EgoMotionSource::kNone ? "" : ", tracks in ",
-                 ego.source == EgoMotionSource::kNone ? "" : fixed_frame_.c_str());
+                 ego.source == EgoMotionSource::kNone ? "" : fixed_frame.c_str());
   }
 
   // On arrival: counted, the layout and stamp checked (invalid input is dropped: the light
@@ -102,7 +90,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       input_->received(msg->header.stamp.toSec());
-      ++received_;
+      status_.onReceived();
       const DecodeError error = pipeline_->plan(toRawCloud(*msg), cloud.plan);
       if (error != DecodeError::kNone) {
         input_->invalid();
@@ -154,11 +142,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
       toObstacleMsg(track, r.ego, out->obstacles.back());
     }
     out->processing_ms = static_cast<float>((ros::WallTime::now() - cloud.received).toSec() * 1e3);
-    last_times_ = r.times;
-    last_obstacles_ = out->obstacles.size();
-    last_processing_ms_ = out->processing_ms;
+    status_.onPublished(out->obstacles.size(), out->processing_ms, r.times);
     input_->processed(out->processing_ms);
-    ++published_;
     pub_.publish(ObstacleArray::ConstPtr(out));
     publishPoints(msg.header, t.to_frame);
   }
@@ -170,7 +155,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     for (int i = 0; i < 3; ++i) wanted[i] = points_pub_[i].getNumSubscribers() > 0;
     if (!wanted[0] && !wanted[1] && !wanted[2]) return;
     if (wanted[0] || wanted[1]) pipeline_->detector().splitPoints(ground_cloud_, obstacle_cloud_);
-    ++debug_frames_;
+    status_.onDebugFrame();
     const Cloud* clouds[3] = {&ground_cloud_, &obstacle_cloud_, &pipeline_->detector().movingPoints()};
     for (int i = 0; i < 3; ++i) {
       if (!wanted[i]) continue;
@@ -186,22 +171,12 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     const CloudTransformQueue::Stats waits = queue_ ? queue_->stats(true) : CloudTransformQueue::Stats();
     std::lock_guard<std::mutex> lock(mutex_);
     status_.addTo(stat, pipeline_->counters(), pipeline_->egoParams().source, waits);
-    stat.add("clouds received", received_);
-    stat.add("obstacle arrays published", published_);
-    stat.add("obstacles (last frame)", last_obstacles_);
-    stat.add("frames with ground/obstacle points published", debug_frames_);
-    stat.add("processing ms (last frame)", last_processing_ms_);
-    stat.add("prep ms", last_times_.prep_ms);
-    stat.add("ground ms", last_times_.ground_ms);
-    stat.add("cluster ms", last_times_.cluster_ms);
-    stat.add("motion ms", last_times_.motion_ms);
-    stat.add("track ms", last_times_.track_ms);
     live_->addTo(stat);
     checks_.addTo(stat);
   }
 
   static constexpr const char* kPointTopics[3] = {"ground_points", "obstacle_points", "moving_points"};
-  std::string target_frame_ = "base_link", fixed_frame_ = "odom";
+  std::string target_frame_ = "base_link";
   std::unique_ptr<DetectorPipeline> pipeline_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -214,11 +189,7 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
   Cloud ground_cloud_, obstacle_cloud_, debug_cloud_;  // reused by publishPoints
   std::mutex mutex_;  // arrival checks, the frame's work and the diagnostics timer
   CloudInputChecks checks_;
-  DetectorStatus status_;
-  std::uint64_t received_ = 0, published_ = 0, debug_frames_ = 0;
-  std::size_t last_obstacles_ = 0;
-  double last_processing_ms_ = 0.0;
-  StageTimes last_times_;
+  DetectorStatus status_;  // logs and the counters of the diagnostics
   ros::Subscriber sub_;
   std::unique_ptr<CloudTransformQueue> queue_;  // last: gone, and its callbacks done, first
 };

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <boost/make_shared.hpp>
 #include <tf2_eigen/tf2_eigen.h>
 
 namespace icanc {
@@ -79,6 +80,22 @@ geometry_msgs::Twist toTwistMsg(const EgoStep& ego) {
   twist.linear.z = ego.linear_velocity.z();
   twist.angular.z = ego.yaw_rate_rad_s;
   return twist;
+}
+
+LampState::ConstPtr toLampStateMsg(const LampStatusSnapshot& status, const ros::Time& stamp) {
+  auto msg = boost::make_shared<LampState>();
+  msg->header.stamp = stamp;
+  msg->state = static_cast<std::uint8_t>(status.status);
+  msg->link_up = status.link_up;
+  msg->commanded_on = status.commanded_on;
+  return msg;
+}
+
+void dangerousBoxes(const ObstacleArray& array, std::vector<Eigen::AlignedBox2d>& boxes) {
+  boxes.clear();
+  for (const Obstacle& o : array.obstacles)
+    if (o.dangerous)
+      boxes.emplace_back(Eigen::Vector2d(o.aabb_min.x, o.aabb_min.y), Eigen::Vector2d(o.aabb_max.x, o.aabb_max.y));
 }
 
 ObjectKinematics toKinematics(const Obstacle& o, const geometry_msgs::Twist& ego_twist) {

@@ -79,14 +79,17 @@ void DetectorStatus::logGround(const ObstacleDetector& detector, const std::stri
                           ground.rejected_points_below, what);
 }
 
+void DetectorStatus::onPublished(std::size_t obstacles, double processing_ms, const StageTimes& times) {
+  ++published_;
+  last_obstacles_ = obstacles;
+  last_processing_ms_ = processing_ms;
+  last_times_ = times;
+}
+
 void DetectorStatus::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat,
                            const DetectorPipelineCounters& c, EgoMotionSource source,
                            const CloudTransformQueue::Stats& waits) {
-  std::uint64_t invalid = 0;
-  for (const auto& kv : c.invalid) {
-    invalid += kv.second;
-    stat.add(std::string("invalid clouds: ") + toString(kv.first), kv.second);
-  }
+  const std::uint64_t invalid = addCountsByKind(stat, "invalid clouds: ", c.invalid);
   const auto ego = [&](EgoStep::Status s) {
     const auto it = c.ego.find(s);
     return it == c.ego.end() ? std::uint64_t{0} : it->second;
@@ -106,7 +109,7 @@ void DetectorStatus::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat,
   std::map<EgoStep::Status, std::uint64_t> frames = c.ego;  // the faults listed even at zero
   for (const auto s : {EgoStep::Status::kExtrapolated, EgoStep::Status::kJump, EgoStep::Status::kLost})
     frames[s] += 0;
-  for (const auto& kv : frames) stat.add(std::string("ego motion frames: ") + toString(kv.first), kv.second);
+  addCountsByKind(stat, "ego motion frames: ", frames);
   stat.add("ego motion restarts of the tracks", c.ego_restarts);
   stat.add("invalid clouds", invalid);
   stat.add("points dropped (NaN/Inf/zero)", c.dropped_points);
@@ -122,6 +125,16 @@ void DetectorStatus::addTo(diagnostic_updater::DiagnosticStatusWrapper& stat,
   stat.add("ground planes rejected, every point kept", c.ground_rejected);
   stat.add("frames without a ground plane, every point kept", c.ground_absent);
   stat.add("last rejected ground plane height m", c.last_rejected_height_m);
+  stat.add("clouds received", received_);
+  stat.add("obstacle arrays published", published_);
+  stat.add("obstacles (last frame)", last_obstacles_);
+  stat.add("frames with ground/obstacle points published", debug_frames_);
+  stat.add("processing ms (last frame)", last_processing_ms_);
+  stat.add("prep ms", last_times_.prep_ms);
+  stat.add("ground ms", last_times_.ground_ms);
+  stat.add("cluster ms", last_times_.cluster_ms);
+  stat.add("motion ms", last_times_.motion_ms);
+  stat.add("track ms", last_times_.track_ms);
 }
 
 }  // namespace icanc

@@ -9,6 +9,25 @@ constexpr double kOdometryHistoryS = 5.0;  // odometry kept for lookups this far
 
 }  // namespace
 
+std::string loadEgoMotion(ParamReader& reader, const std::string& target_frame, EgoMotionSection& section) {
+  EgoMotionParams& ego = section.params;
+  std::string source = toString(ego.source);
+  reader.read("source", source);
+  ego.source = parseEgoMotionSource(source);
+  reader.read("fixed_frame", section.fixed_frame);
+  reader.read("max_speed_mps", ego.max_speed_mps);
+  reader.read("max_yaw_rate_rad_s", ego.max_yaw_rate_rad_s);
+  reader.read("max_wait_s", ego.max_wait_s);
+  reader.read("replay_max_wait_s", ego.replay_max_wait_s);
+  reader.read("max_extrapolation_s", ego.max_extrapolation_s);
+  reader.accept("publish_tf");  // LidarOdometry's
+  std::string why = validate(ego);
+  if (why.empty() && section.fixed_frame.empty()) why = "ego_motion/fixed_frame must not be empty";
+  if (why.empty() && ego.source != EgoMotionSource::kNone && target_frame.empty())
+    why = "ego_motion/source " + source + " needs ~target_frame (the vehicle frame)";
+  return why;
+}
+
 EgoPoseSource::EgoPoseSource(ros::NodeHandle& nh, EgoMotionSource source,
                              const std::string& fixed_frame, tf2_ros::Buffer& tf)
     : source_(source), fixed_frame_(fixed_frame), tf_(tf), odometry_(kOdometryHistoryS) {

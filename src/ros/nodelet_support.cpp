@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <limits>
 
+#include <boost/make_shared.hpp>
 #include <ros/console.h>
+#include <std_msgs/Bool.h>
 
 #include "icanc/core/input/frame_gaps.hpp"
 
@@ -18,6 +20,12 @@ geometry_msgs::TransformStamped lookupAtStampOrLatest(const tf2_ros::Buffer& buf
   } catch (const tf2::ExtrapolationException&) {
     return buffer.lookupTransform(target, source, ros::Time(0));
   }
+}
+
+void publishBool(const ros::Publisher& pub, bool value) {
+  auto msg = boost::make_shared<std_msgs::Bool>();
+  msg->data = value;
+  pub.publish(std_msgs::Bool::ConstPtr(msg));
 }
 
 void report(diagnostic_updater::DiagnosticStatusWrapper& stat, const StatusReport& report) {

@@ -1,5 +1,6 @@
 // toObstacleMsg / toKinematics (src/ros/conversions.cpp): what the DangerDetector is given of a
-// track is what the tracker holds, the footprint's parts included.
+// track is what the tracker holds, the footprint's parts included; dangerousBoxes: what lights the
+// lamp's segments.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -114,6 +115,28 @@ TEST(Conversions, APathSeenFromTheVehiclesPose) {
   EXPECT_NEAR(path.poses[2].pose.orientation.z, -std::sqrt(0.5), 1e-9);
   EXPECT_NEAR(path.poses[2].pose.orientation.w, std::sqrt(0.5), 1e-9);
   EXPECT_TRUE(toRelativePath(header, pose(0, 0, 0), {}).poses.empty());
+}
+
+TEST(Conversions, TheDangerousObstaclesBoundsLightTheSegments) {
+  ObstacleArray array;
+  for (int i = 0; i < 3; ++i) {
+    array.obstacles.emplace_back();
+    Obstacle& o = array.obstacles.back();
+    o.aabb_min.x = 5.0 + i;
+    o.aabb_min.y = -1.0;
+    o.aabb_min.z = 0.0;
+    o.aabb_max.x = 6.0 + i;
+    o.aabb_max.y = 0.5;
+    o.aabb_max.z = 1.7;
+    o.dangerous = i != 1;
+  }
+  std::vector<Eigen::AlignedBox2d> boxes(4);  // reused: what it held goes
+  dangerousBoxes(array, boxes);
+  ASSERT_EQ(boxes.size(), 2u);
+  EXPECT_TRUE(boxes[0].min().isApprox(Eigen::Vector2d(5.0, -1.0)));
+  EXPECT_TRUE(boxes[0].max().isApprox(Eigen::Vector2d(6.0, 0.5)));
+  EXPECT_TRUE(boxes[1].min().isApprox(Eigen::Vector2d(7.0, -1.0)));
+  EXPECT_TRUE(boxes[1].max().isApprox(Eigen::Vector2d(8.0, 0.5)));
 }
 
 }  // namespace

@@ -7,7 +7,6 @@ started into that namespace against this master: once its profile is loaded, the
 be gone, and the LightController must start without the 'watchdog_enabled is false' warning.
 """
 import os
-import signal
 import subprocess
 import sys
 import threading
@@ -17,6 +16,9 @@ import unittest
 import rospy
 import rostest
 from rosgraph_msgs.msg import Log
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'scripts'))
+from launch_util import stop_group  # noqa: E402 (scripts/launch_util.py, found through the line above)
 
 NS = '/stale_check'
 STALE = {
@@ -65,12 +67,7 @@ class StaleParams(unittest.TestCase):
             self.assertFalse(self.saw('watchdog_enabled is false'),
                              'the LightController started without its watchdog')
         finally:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(timeout=20.0)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
-                launch.wait()
+            stop_group(launch, 20.0)
 
 
 if __name__ == '__main__':

@@ -9,7 +9,11 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 
+#include "icanc/LampState.h"
 #include "icanc/Obstacle.h"
+#include "icanc/ObstacleArray.h"
+#include "icanc/core/bridge/light_bridge_host.hpp"
+#include "icanc/core/bridge/rosserial_protocol.hpp"
 #include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/core/danger/danger.hpp"
 #include "icanc/core/motion/ego_motion.hpp"
@@ -30,6 +34,16 @@ geometry_msgs::Twist toTwistMsg(const EgoStep& ego);
 
 // What the danger rules need of an icanc/Obstacle, with the vehicle's twist of its array.
 ObjectKinematics toKinematics(const Obstacle& obstacle, const geometry_msgs::Twist& ego_twist);
+
+// The x-y of the axis-aligned bounds of the array's obstacles flagged dangerous (what lights the
+// segments of the lamp), into `boxes` (cleared first: reused).
+void dangerousBoxes(const ObstacleArray& array, std::vector<Eigen::AlignedBox2d>& boxes);
+
+// lamp_status as the LightBridge decided it, stamped `stamp`.
+LampState::ConstPtr toLampStateMsg(const LampStatusSnapshot& status, const ros::Time& stamp);
+
+// A ROS time as a rosserial device receives it (std_msgs/Time).
+inline rosserial::Stamp toStamp(const ros::Time& t) { return rosserial::Stamp{t.sec, t.nsec}; }
 
 // A path of `poses` (in one fixed frame) as the vehicle at `here` (its pose in that frame) sees
 // it: each pose relative to here, every one under `header` (the vehicle frame, the stamp). The

@@ -1,7 +1,9 @@
 // The ObstacleDetector's throttled warnings for each frame and the counters of its diagnostics,
-// from what DetectorPipeline and CloudTransformQueue report: ROS glue over their counters.
+// from what DetectorPipeline and CloudTransformQueue report and the nodelet's own counts: ROS glue
+// over their counters.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -24,8 +26,15 @@ class DetectorStatus {
                 const CloudTransformQueue::Transforms& t, const std::string& cloud_frame,
                 double stamp_s);
 
+  // The nodelet's own counts: a cloud arrived, ground or obstacle points were published for a
+  // frame, an ObstacleArray was published (its obstacles, its processing time and the stages').
+  void onReceived() { ++received_; }
+  void onDebugFrame() { ++debug_frames_; }
+  void onPublished(std::size_t obstacles, double processing_ms, const StageTimes& times);
+
   // WARN naming the first kind of fault that grew since the last report (invalid clouds,
-  // transforms missing or late, ego motion, ground), else OK; then the counters.
+  // transforms missing or late, ego motion, ground), else OK; then the counters, the pipeline's
+  // and the nodelet's.
   void addTo(diagnostic_updater::DiagnosticStatusWrapper& stat, const DetectorPipelineCounters& c,
              EgoMotionSource source, const CloudTransformQueue::Stats& waits);
 
@@ -34,6 +43,10 @@ class DetectorStatus {
 
   std::string log_name_, target_frame_, fixed_frame_;
   FaultGrowth faults_;  // the fault kinds counted at the last report
+  std::uint64_t received_ = 0, published_ = 0, debug_frames_ = 0;
+  std::size_t last_obstacles_ = 0;
+  double last_processing_ms_ = 0.0;
+  StageTimes last_times_;
 };
 
 }  // namespace icanc

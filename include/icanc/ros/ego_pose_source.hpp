@@ -20,8 +20,20 @@
 
 #include "icanc/core/common/stamped_history.hpp"
 #include "icanc/core/motion/ego_motion.hpp"
+#include "icanc/ros/param_reader.hpp"
 
 namespace icanc {
+
+// The namespace's ego_motion section, shared with LidarOdometry: the core's parameters and the
+// fixed frame the poses are in.
+struct EgoMotionSection {
+  EgoMotionParams params;
+  std::string fixed_frame = "odom";
+};
+
+// Reads the section with `reader` (a ParamReader over the namespace's ego_motion) and checks it:
+// "" or the first problem. A source other than none needs `target_frame`, the vehicle frame.
+std::string loadEgoMotion(ParamReader& reader, const std::string& target_frame, EgoMotionSection& section);
 
 class EgoPoseSource {
  public:

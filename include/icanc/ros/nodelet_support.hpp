@@ -12,6 +12,7 @@
 #include <diagnostic_updater/publisher.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/node_handle.h>
+#include <ros/publisher.h>
 #include <ros/timer.h>
 #include <tf2_ros/buffer.h>
 
@@ -31,6 +32,9 @@ void report(diagnostic_updater::DiagnosticStatusWrapper& stat, const StatusRepor
 
 // A core class's log line under the nodelet's name (as NODELET_INFO and the like write it).
 void log(const std::string& name, const LogLine& line);
+
+// A std_msgs/Bool with `value`, published as a shared pointer (no copy within a nodelet manager).
+void publishBool(const ros::Publisher& pub, bool value);
 
 // A frame id as tf2 names it: tf2 frame ids carry no leading '/', tf1-era ones may.
 inline std::string bareFrame(const std::string& frame) {

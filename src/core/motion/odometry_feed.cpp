@@ -111,11 +111,7 @@ void OdometryFeed::onRegistered(double now, std::vector<LogLine>& logs) {
 
 StatusReport OdometryFeed::report(double last_ms) {
   StatusReport stat;
-  std::uint64_t invalid = 0;
-  for (const auto& kv : invalid_) {
-    invalid += kv.second;
-    stat.add(std::string("invalid clouds: ") + toString(kv.first), kv.second);
-  }
+  const std::uint64_t invalid = addCountsByKind(stat, "invalid clouds: ", invalid_);
   const LidarOdometryCounters& c = odometry_.counters();
   const char* const what[4] = {"invalid clouds dropped", "transform to base frame missing",
                                "vehicle speed invalid or missing", "poses from the motion prior"};

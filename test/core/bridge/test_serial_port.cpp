@@ -2,8 +2,6 @@
 // 0, and a vanished peer (closed master, removed path) reported as an error, not a stall.
 #include <gtest/gtest.h>
 
-#include <pty.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -11,25 +9,12 @@
 #include <string>
 
 #include "icanc/core/bridge/serial_port.hpp"
+#include "pty.hpp"
 
 namespace icanc {
 namespace {
 
-struct Pty {
-  Pty() {
-    termios raw;
-    cfmakeraw(&raw);
-    char name[128];
-    EXPECT_EQ(openpty(&master, &slave, name, &raw, nullptr), 0);
-    path = name;
-  }
-  ~Pty() {
-    if (master >= 0) ::close(master);
-    if (slave >= 0) ::close(slave);
-  }
-  int master = -1, slave = -1;
-  std::string path;
-};
+using test_pty::Pty;
 
 TEST(SerialPort, BaudRates) {
   EXPECT_TRUE(SerialPort::baudSupported(57600));
@@ -77,9 +62,7 @@ TEST(SerialPort, ClosedPeerIsReportedAsGone) {
   SerialPort p;
   std::string error;
   ASSERT_TRUE(p.open(pty.path, 57600, error)) << error;
-  ::close(pty.master);
-  ::close(pty.slave);
-  pty.master = pty.slave = -1;
+  pty.close();
   std::uint8_t buf[16];
   error.clear();
   EXPECT_EQ(p.read(buf, sizeof buf, 1.0, error), -1);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -39,6 +40,20 @@ struct StatusReport {
   // The value under `key`, "" when absent (for tests).
   std::string value(const std::string& key) const;
 };
+
+// Adds a value a kind, "<prefix><kind>" with the kind named by its toString, to `stat` (a
+// StatusReport or a diagnostic_updater status: anything with add(key, value)), in the map's order;
+// returns the counts' sum.
+template <class Stat, class Kind>
+std::uint64_t addCountsByKind(Stat& stat, const std::string& prefix,
+                              const std::map<Kind, std::uint64_t>& counts) {
+  std::uint64_t sum = 0;
+  for (const auto& kv : counts) {
+    sum += kv.second;
+    stat.add(prefix + toString(kv.first), kv.second);
+  }
+  return sum;
+}
 
 // Fault counters (each only grows) in the order their kinds name a status: which kind grew since
 // the last report. A diagnostics report WARNs with the first that did, then OK again once none
