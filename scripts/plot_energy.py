@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Headlight energy per lamp type and case (paper Fig. "Energy consumed in the worst case, average
-case, and best case scenarios"), the binary lamp and the segmented lamp beside it (issue 23), from
+case, and best case scenarios"), the binary lamp and the segmented lamp beside it, from
 icanc_energy --csv; optionally beside the energy of replayed runs (icanc_energy --bag ... --csv,
 scripts/utilisation's energy_bag.csv): the simulated scenario and the real KITTI drive.
 

@@ -80,7 +80,7 @@ class HeadlightLogic {
   HeadlightReason reason_;
 };
 
-// Segmented lamp (issue 23): the PWM duty of each segment pin from the host's std_msgs/
+// Segmented lamp: the PWM duty of each segment pin from the host's std_msgs/
 // UInt8MultiArray levels. A segment follows its level only while the HeadlightLogic is in a
 // commanded state (the link is up and the Bool command is fresh) and levels came within the
 // command timeout; otherwise, and for a segment beyond the levels received, it is full ON (255).

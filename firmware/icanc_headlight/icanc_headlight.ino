@@ -4,7 +4,7 @@
 //
 //   subscribes  lamp_cmd    std_msgs/Bool   the host's command, repeated at its heartbeat rate
 //   publishes   lamp_state  std_msgs/Bool   the pin's actual state, on change and every 100 ms
-//   subscribes  lamp_levels std_msgs/UInt8MultiArray   segment levels 0..255 (issue 23), for a
+//   subscribes  lamp_levels std_msgs/UInt8MultiArray   segment levels 0..255, for a
 //               segmented lamp: the bridge's ~device_levels_topic; one PWM pin per segment
 //               (SEGMENT_PINS, in the profile's segment order), full ON unless the link is up, the
 //               Bool command fresh and levels came within COMMAND_TIMEOUT_MS (headlight_logic.h)

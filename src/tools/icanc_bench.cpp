@@ -4,7 +4,7 @@
 // LiDAR odometry (profile's lidar_odometry section) alone and after the fast detector.
 // Then scaling with points (simulated 16/32/64/128-channel scans) and with objects (the tracker
 // alone with 10/100/200/500 objects), and the lamp: the paper's binary LightController against the
-// 8-segment lamp (dimmed by distance) per input, with 0/1/5/20 dangerous boxes (issue 23: the
+// 8-segment lamp (dimmed by distance) per input, with 0/1/5/20 dangerous boxes (the
 // segment levels must not come later than the binary command). Timing is steady_clock around each
 // stage, single thread; the pipeline's line also gives the thread's CPU time, which time given to
 // other processes on the machine does not inflate.
@@ -114,7 +114,7 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
   std::vector<double> decode_then_ms, fused_ms, odometry_ms, interleaved_ms, fast_odometry_ms,
       fast_odometry_cpu_ms;
   std::vector<double> odometry_downsample_ms, odometry_register_ms, odometry_map_ms;
-  // LiDAR odometry (issue 19) as its nodelet runs it, reading the same PointCloud2 buffer: alone,
+  // LiDAR odometry as its nodelet runs it, reading the same PointCloud2 buffer: alone,
   // and the fast detector then the odometry on each frame (one core serving both nodelets).
   icanc::LidarOdometry odometry(odometry_params), odometry_after_fast(odometry_params);
   ObstacleDetector fast_before_odometry(fast_params);
@@ -167,7 +167,7 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
     fscore.add(icanc::kitti::scoreFrame(by_frame[f], cloud, fast.detections()));
     ++frames;
   }
-  // The pipeline as the nodelet manager runs it (issue 19's budget): each cloud read, then the
+  // The pipeline as the nodelet manager runs it: each cloud read, then the
   // fast detector with tracking and the LiDAR odometry on it, one detector and one odometry, on
   // one core. Above, the same pair runs between five other detectors and odometries on the same
   // frame, which take turns evicting each other's grids and map from the cache.
@@ -191,7 +191,7 @@ bool runKitti(const std::string& dir, const ObstacleDetectorParams& classic_para
       fast_odometry_cpu_ms.push_back(icanc::tools::threadCpuMs() - c0);
     }
   }
-  // The data named as read (issue 22: the heading said "0000 (HDL-64E)" whatever DIR was given).
+  // The data named as read (the heading said "0000 (HDL-64E)" whatever DIR was given).
   std::printf("## KITTI tracking, sequence 0000 (calib, labels, velodyne) read from %s: %d frames of "
               "%.0f points on average, times in ms\n\n", dir.c_str(), frames,
               frames ? cs.points / frames : 0.0);

@@ -11,7 +11,7 @@
 // --danger-fraction replaces the Monte Carlo run for the exact table (the paper table always uses
 // the paper's 0.21).
 //
-// Segmented lamp (issue 23, docs/segmented_lamp.md): beside each table, every lamp split evenly
+// Segmented lamp (docs/segmented_lamp.md): beside each table, every lamp split evenly
 // into --segments N (8) segments, each dangerous object lighting --segments-lit K (2) of them in
 // the average and best cases (the worst case is every segment always on). --csv writes them too,
 // after the binary rows (columns segments, segments_lit: 1, 1 for the binary lamp).
@@ -136,7 +136,7 @@ int paperCases(const Options& o, const icanc::LampCatalogue& lamps) {
               fraction_source.c_str());
   printTable(exact_rows, "%.5f");
 
-  std::printf("\nSegmented lamp (issue 23): each lamp as %zu equal segments, %zu lit per dangerous "
+  std::printf("\nSegmented lamp: each lamp as %zu equal segments, %zu lit per dangerous "
               "object (worst: all always on)\n", o.segments, o.segments_lit);
   const auto seg_paper_rows = icanc::segmentedEnergyTable(lamps, paper_cases, o.beam, o.segments, o.segments_lit);
   const auto seg_exact_rows = icanc::segmentedEnergyTable(lamps, exact_cases, o.beam, o.segments, o.segments_lit);

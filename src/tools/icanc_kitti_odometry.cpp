@@ -1,4 +1,4 @@
-// icanc_kitti_odometry: checks the LiDAR odometry on KITTI without GPS (issue 19, item 6). Runs
+// icanc_kitti_odometry: checks the LiDAR odometry on KITTI without GPS. Runs
 // LidarOdometry over a KITTI tracking sequence (velodyne frame = vehicle frame, 0.1 s per frame),
 // puts every labelled object's centre into `odom` with the estimated poses and, for the labelled
 // objects that do not move, reports how far their centre wanders in `odom`: per track the median

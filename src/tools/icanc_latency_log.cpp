@@ -12,7 +12,7 @@
 // LIGHT.csv, one row per icanc/LightState that carries a new trigger (a dangerous cloud that
 // (re)started the lamp timer; the paper's "point cloud received -> light command" latency):
 //   trigger, stamp_s, wall_s, cloud_to_light_ms, on, reason, dangerous_objects
-// LEVELS.csv (optional), one row per input the LightController answered (issue 23): the binary
+// LEVELS.csv (optional), one row per input the LightController answered: the binary
 // lamp's and the segment levels' latency, each measured in the nodelet when it published
 // (LightState and LampCommand input_latency_ms, cloud received -> published; no hop):
 //   input, input_stamp_s, cloud_to_light_state_ms, cloud_to_levels_ms, lit_segments, segments, reason

@@ -9,7 +9,7 @@
 //                    [--half-width 0.7] [--model paper|predictive] [--csv out.csv] [--quiet]
 // --range sets the upper end of d and s (default: n, as in the paper); --quiet prints only the
 // summary, not the per-count table. --model predictive puts the same boxes through the
-// predictive danger model (issue 9) and prints the paper's rule on them beside it; the analytic
+// predictive danger model and prints the paper's rule on them beside it; the analytic
 // column stays the paper's rule's P(D).
 #include <chrono>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// icanc_sim_odometry: the LiDAR odometry on simulated scenarios (issue 19: every scenario evaluated
+// icanc_sim_odometry: the LiDAR odometry on simulated scenarios (every scenario evaluated
 // with `ego_motion/source: lidar` as well as `tf`). Each scenario is rendered as icanc_sim_bag
 // renders it (same seed, sensor, mount and noise), read as the LidarOdometry nodelet reads the
 // organized cloud (every input_stride-th point of each row, from its phase), moved into base_link

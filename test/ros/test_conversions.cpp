@@ -59,7 +59,7 @@ TEST(Conversions, ATrackRoundTripsIntoTheDangerModelsKinematics) {
   EXPECT_DOUBLE_EQ(msg.velocity_over_ground.x, msg.velocity.x);
 }
 
-// Issue 19: with the vehicle's motion, the message carries the velocity over ground (the filter's)
+// With the vehicle's motion, the message carries the velocity over ground (the filter's)
 // and the relative one the paper's rule uses, and the array's twist reaches the danger model.
 TEST(Conversions, VelocityOverGroundAndRelativeToATurningVehicle) {
   MultiObjectTracker tracker;

@@ -1,4 +1,4 @@
-// The DangerDetector's planned-path parameters (issue 19): out-of-range values stop the nodelet at
+// The DangerDetector's planned-path parameters: out-of-range values stop the nodelet at
 // load with a message naming the key (PlannedPathSource::validate), as every other parameter.
 #include <limits>
 

@@ -1,4 +1,4 @@
-// icanc_sim_bag's ego motion topics (issue 19): for a vehicle that turns, /odom (nav_msgs/Odometry)
+// icanc_sim_bag's ego motion topics: for a vehicle that turns, /odom (nav_msgs/Odometry)
 // is written at every cloud stamp with the pose of base_link in odom equal to /tf's and to the
 // closed-form circle, and the twist in base_link (speed along x, yaw rate about z); /planned_path
 // (nav_msgs/Path) at every cloud stamp holds the path driven, seen from the vehicle there.

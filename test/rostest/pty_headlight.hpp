@@ -38,7 +38,7 @@ struct PtyHeadlightOptions {
   // false: a stock subscribe-only sketch (no lamp_state publisher): it sends nothing but ros_lib's
   // time request every 2.5 s.
   bool report_state = true;
-  // Non-empty: the board also subscribes this std_msgs/UInt8MultiArray (segment levels, issue 23).
+  // Non-empty: the board also subscribes this std_msgs/UInt8MultiArray (segment levels).
   std::string levels_topic;
 };
 

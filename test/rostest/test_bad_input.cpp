@@ -1,8 +1,8 @@
 // rostest: malformed clouds reach the ObstacleDetector. Each gets a throttled error naming the
 // problem (on /rosout) and a counter in /diagnostics; the process keeps running and the next good
-// frame is processed. A stamp going backwards is rejected with a warning (issue 21); the frame
+// frame is processed. A stamp going backwards is rejected with a warning; the frame
 // after it starts the new timeline and resets the tracker. A ground plane where the road cannot
-// be is warned about and counted (issue 22).
+// be is warned about and counted.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <functional>
 
@@ -174,7 +174,7 @@ TEST_F(BadInput, EachMalformedCloudIsReportedCountedAndSurvived) {
            << ", dropped " << counter("points dropped (NaN/Inf/zero)");
 }
 
-// The rest of issue #8's matrix. Each malformed cloud: an error on /rosout naming the problem, its
+// The rest of the bad-input matrix. Each malformed cloud: an error on /rosout naming the problem, its
 // own counter in /diagnostics, and the next good frame processed. 2,000,000 points (max_points)
 // are processed; one more is rejected before any point is read (memory bounded by max_points).
 // A repeated stamp is rejected with a warning and counted; a cloud in a frame without a
@@ -267,7 +267,7 @@ TEST_F(BadInput, MalformedMatrix) {
     ASSERT_TRUE(goodFrame(stamp += dt));
   }
 
-  // Repeating stamp: warned about, counted, rejected (dt = 0 would hide every speed; issue 21).
+  // Repeating stamp: warned about, counted, rejected (dt = 0 would hide every speed).
   {
     const long repeated = counter("repeated stamps");
     EXPECT_TRUE(rejectedFrame(stamp, "repeats the previous frame"));
@@ -295,7 +295,7 @@ TEST_F(BadInput, MalformedMatrix) {
     }
     EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "no transform lidar_without_tf -> base_link"));
     EXPECT_TRUE(logged(rosgraph_msgs::Log::WARN, "output frame changed from 'base_link' to 'lidar_without_tf'"));
-    // The DangerDetector refuses sensor-frame boxes (its rules are in base_link; issue 21):
+    // The DangerDetector refuses sensor-frame boxes (its rules are in base_link):
     // counted, an ERROR naming both frames, diagnostics ERROR, and no obstacles_danger for them.
     EXPECT_TRUE(waitFor([&] { return counter("arrays refused: wrong frame") >= refused_before + 1; }, 5.0))
         << "arrays refused " << counter("arrays refused: wrong frame");
@@ -330,7 +330,7 @@ TEST_F(BadInput, MalformedMatrix) {
   ASSERT_TRUE(goodFrame(stamp += dt));
 }
 
-// Issue 22: a cloud whose only horizontal plane lies far from where the road must be (a ceiling
+// A cloud whose only horizontal plane lies far from where the road must be (a ceiling
 // 1.5 m above the sensor, 2.1 m above base_link's road) is not taken for the ground: every point
 // kept, a warning naming the plane's height and what was done, a diagnostics counter.
 TEST_F(BadInput, GroundPlaneWhereNoRoadCanBeIsWarnedAndCounted) {

@@ -1,4 +1,4 @@
-// rostest: the dark paths of issue 21 in the whole graph (launch/icanc.launch). A scene without
+// rostest: the dark paths in the whole graph (launch/icanc.launch). A scene without
 // danger keeps the lamp OFF; then
 // - clouds whose stamp is frozen, zero, or alternates between two clocks: each frame is rejected
 //   (counted, WARN in the detector's diagnostics), so the LightController's watchdog lights the

@@ -1,4 +1,4 @@
-// rostest (issue 19): the ObstacleDetector takes the vehicle's motion from tf odom -> base_link at
+// rostest: the ObstacleDetector takes the vehicle's motion from tf odom -> base_link at
 // each cloud's stamp. Every frame is answered whatever the poses do: measured (the twist in the
 // array), missing (extrapolated for max_extrapolation_s, then lost: relative velocities, an error),
 // back (a fresh start), jumping (re-based); the faults are counted in /diagnostics.

@@ -107,7 +107,7 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       {"min_danger_accuracy", r.danger.accuracy()},   {"min_detection_recall", r.detection.recall()},
       {"min_detection_recall_roi", r.detection_roi.recall()},  // in the detector's region of interest
       // Found with the track's velocity within EvalParams::velocity_agree_mps of the truth's, of
-      // the true objects: a box whose track moves with the vehicle does not count (issue 22).
+      // the true objects: a box whose track moves with the vehicle does not count.
       {"min_detection_velocity_agrees",
        r.detection.tp + r.detection.fn ? r.velocityAgreesShare() : 1.0},
       {"min_caught_fraction", r.episodes ? double(r.caught) / r.episodes : 1.0},
@@ -131,7 +131,7 @@ TEST(EvalScenario, MetricsWithinThresholds) {
       // value, with one frame of slack for the sanitized build's other optimisation level).
       {"max_danger_fp", double(r.danger.fp)},
       {"max_danger_fn", double(r.danger.fn)},
-      // Segmentation (issue 22): true objects missed because they lie inside a neighbour's box.
+      // Segmentation: true objects missed because they lie inside a neighbour's box.
       {"max_detection_merged", double(r.detection_merged)},
       // Tracking in the fixed frame: a static object's track stands still (needs ego motion).
       {"max_static_speed_p50", r.static_speed_samples ? r.static_speed_p50_mps : 1e9},

@@ -1,4 +1,4 @@
-// rostest: the camera illumination gate (issue 7) in the graph of launch/icanc.launch with
+// rostest: the camera illumination gate in the graph of launch/icanc.launch with
 // camera_image_topic set. The pedestrian of approach_front.yaml walks toward the Zebra twice:
 // first with daylight camera images, then with a night street (a street lamp in view). The
 // IlluminationMonitor must turn bright, then dark, each only after min_dwell_s of such images;

@@ -372,7 +372,7 @@ TEST_F(LightBridge, UnplugAndReplugAreSurvived) {
   board().unplug();
   ASSERT_TRUE(waitFor([&] { return ros().linkDownAfter(t0) > 0; }, 5.0));
   const double detect_ms = (ros().linkDownAfter(t0) - t0) * 1000.0;
-  // The bridge no longer knows the lamp: unknown, the device failing safe (issue 21).
+  // The bridge no longer knows the lamp: unknown, the device failing safe.
   EXPECT_TRUE(waitFor([&] { return ros().lastStatus().state == LampState::UNKNOWN_FAILSAFE; }, 1.0))
       << "lamp_status " << int(ros().lastStatus().state);
   EXPECT_FALSE(ros().lastStatus().link_up);
@@ -437,7 +437,7 @@ TEST_F(LightBridge, SilentBoardIsUnknownBeforeTheLinkTimesOut) {
 
 TEST_F(LightBridge, WrongCommandTypeIsRefused) {
   // First another kind of device error: a malformed TopicInfo. Its throttle must not hide the
-  // type mismatch that follows (issue 21: one 10 s throttle for all kinds did).
+  // type mismatch that follows (one 10 s throttle for all kinds did).
   ASSERT_TRUE(boardFollows(false));
   board().inject(rosserial::encodeFrame(rosserial::kIdPublisher, {0x01, 0x02}));
   ASSERT_TRUE(ros().logged(rosgraph_msgs::Log::ERROR, "malformed rosserial_msgs/TopicInfo", 3.0));
@@ -468,7 +468,7 @@ TEST_F(LightBridge, WrongCommandTypeIsRefused) {
 }
 
 // A synced board re-announcing its command subscriber with another type: link_up goes false
-// (issue 21: it stayed true), lamp_status unknown, no command sent; the next negotiation (the
+// (it stayed true), lamp_status unknown, no command sent; the next negotiation (the
 // emulated board still has its Bool subscriber) brings it back.
 TEST_F(LightBridge, TypeChangeWhileSyncedDropsLinkUp) {
   ASSERT_TRUE(boardFollows(false));
@@ -495,7 +495,7 @@ TEST_F(LightBridge, TypeChangeWhileSyncedDropsLinkUp) {
 }
 
 // A stock ros_lib sketch with one Bool subscriber and no publisher sends only its time requests
-// (every 2.5 s): the default link timeout keeps it (issue 21: 14 drops in 12 s with 1 s).
+// (every 2.5 s): the default link timeout keeps it (14 drops in 12 s with 1 s).
 TEST_F(LightBridge, StockSubscribeOnlyBoardStaysSynced) {
   board().unplug();
   ASSERT_TRUE(waitFor([&] { return !ros().linkUp(); }, 5.0));
@@ -530,7 +530,7 @@ TEST_F(LightBridge, StockSubscribeOnlyBoardStaysSynced) {
 // the graph's manager, and the LightController's lamp_cmd (fail-safe ON: no clouds) reaches the
 // board at the controller's rate.
 // light_bridge_levels.test: the bridge with device_levels_topic, a board with a lamp_levels
-// subscriber (issue 23). Levels reach the board with the commands; 255 for every segment before any
+// subscriber. Levels reach the board with the commands; 255 for every segment before any
 // lamp_command and once it stops; the board's PWM duties follow.
 TEST_F(LightBridge, SegmentLevelsReachTheBoard) {
   PtyHeadlightOptions options;

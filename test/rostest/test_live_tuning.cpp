@@ -126,7 +126,7 @@ TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
   EXPECT_DOUBLE_EQ(light.recheck_below_s, 1.0);
   EXPECT_DOUBLE_EQ(light.tau_s, 3.0);
 
-  // Issue 21: values outside what validate() accepts are refused and counted, not clamped into
+  // Values outside what validate() accepts are refused and counted, not clamped into
   // the .cfg's range (stale_timeout_s -5 used to become 0 = watchdog off, and count as accepted).
   const long light_rejected = rejected("light controller");
   for (double bad : {-5.0, 0.0, 1e9}) {
@@ -190,7 +190,7 @@ TEST_F(LiveTuning, ChangesTakeEffectOnTheNextFrameAndInvalidOnesAreRefused) {
   detector.cluster_min_points = 6000;
   ASSERT_TRUE(detector_.setConfiguration(detector));
   EXPECT_EQ(detector.cluster_min_points, 4000);
-  // Issue 21: out of validate()'s range is refused, not clamped by the .cfg (a tolerance of -1 used
+  // Out of validate()'s range is refused, not clamped by the .cfg (a tolerance of -1 used
   // to become 0.05 and count as accepted).
   detector.cluster_tolerance_m = -1.0;
   ASSERT_TRUE(detector_.setConfiguration(detector));

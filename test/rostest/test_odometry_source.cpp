@@ -1,4 +1,4 @@
-// rostest (issue 19): the ObstacleDetector takes the vehicle's pose from nav_msgs/Odometry
+// rostest: the ObstacleDetector takes the vehicle's pose from nav_msgs/Odometry
 // (EgoPoseSource, ego_motion/source odometry) at each cloud's stamp. The odometry comes every 13 ms,
 // out of step with the clouds' 100 ms, along a constant turn (2 m/s, 0.5 rad/s): only poses
 // interpolated at the clouds' stamps (translation and rotation) give that twist back. Odometry

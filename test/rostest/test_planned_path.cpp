@@ -1,4 +1,4 @@
-// rostest: the DangerDetector nodelet with ~predictive/path_topic (issue 19). Obstacle arrays are
+// rostest: the DangerDetector nodelet with ~predictive/path_topic. Obstacle arrays are
 // published on its input as the ObstacleDetector would: an S-bend where the vehicle still turns
 // right (-0.15 rad/s at 10 m/s) and the road already bends left, a car parked on the right of the
 // road. Along the planner's path the car is beside the road; along the twist it is in the turn.

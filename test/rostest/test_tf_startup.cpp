@@ -1,4 +1,4 @@
-// rostest (issue 21): clouds arrive before the sensor's mount (lidar -> base_link) is on /tf_static.
+// rostest: clouds arrive before the sensor's mount (lidar -> base_link) is on /tf_static.
 // The ObstacleDetector waits for it at start-up (bounded), so even the first boxes are published
 // in the vehicle frame, the one the DangerDetector judges in; none goes out in the sensor's frame.
 #include <thread>

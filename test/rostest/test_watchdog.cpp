@@ -1,4 +1,4 @@
-// rostest: the LightController's input watchdog (issue #8). Good clouds of a scene without danger
+// rostest: the LightController's input watchdog. Good clouds of a scene without danger
 // at 10 Hz, then the stream stops: the lamp must go ON with reason REASON_SENSOR_STALE within
 // stale_timeout_s + one tick after the last input, the light controller's diagnostics must say
 // so (WARN "sensor stale") and count it, and the lamp must be OFF again within two frames of

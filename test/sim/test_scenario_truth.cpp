@@ -113,7 +113,7 @@ TEST(ScenarioTruth, NightRoadScenarios) {
   expectDanger(s, 1, 32, 9.1, 12.2);
 }
 
-// The turning scenarios (issue 19): the truth follows the vehicle along its path.
+// The turning scenarios: the truth follows the vehicle along its path.
 TEST(ScenarioTruth, TurningRoadScenarios) {
   Summary s = summarise("night_bend_parked_cars");
   EXPECT_EQ(s.profile, "carla_model3");

@@ -1,4 +1,4 @@
-// The ObstacleDetector's input checks beyond the message layout (issue 21), as ROS glue over the
+// The ObstacleDetector's input checks beyond the message layout, as ROS glue over the
 // core's StampCheck and SensorHealth: parameters (stamp_check/*, sensor_health/*), throttled logs
 // per kind, and counters and levels in the nodelet's diagnostics. A rejected stamp makes the frame
 // invalid input (dropped: the LightController's watchdog lights the lamp when they keep coming); a

@@ -406,7 +406,7 @@ namespace {
 
 TEST(LightBridgeSession, StockSubscribeOnlyDeviceIsKeptByItsTimeRequests) {
   // ros_lib with one subscriber and no publisher sends nothing but a time request every 2.5 s
-  // (issue 21: with a 1 s link timeout it was dropped and resynced every second).
+  // (with a 1 s link timeout it was dropped and resynced every second).
   Bench b(rosserial::kBoolType, rosserial::kBoolMd5, rosserial::kBoolType, rosserial::kBoolMd5, true,
           false);
   EXPECT_GE(LightBridgeParams().link_timeout_s, 5.0) << "two ros_lib time-sync periods at least";
@@ -525,7 +525,7 @@ TEST(LightBridgeSession, CommandTypeChangingWhileSyncedDropsTheLink) {
   EXPECT_TRUE(b.host.synced());
 }
 
-// Issue 23: the segmented lamp's levels on an optional std_msgs/UInt8MultiArray subscriber.
+// The segmented lamp's levels on an optional std_msgs/UInt8MultiArray subscriber.
 struct LevelsBench : Bench {
   explicit LevelsBench(const std::string& type = rosserial::kUInt8ArrayType,
                        const std::string& md5 = rosserial::kUInt8ArrayMd5) {
@@ -610,7 +610,7 @@ TEST(ErrorThrottle, EachKindHasItsOwnPeriod) {
   EXPECT_TRUE(t.allow(SessionError::kMalformedTopicInfo, 0.0, held));
   EXPECT_EQ(held, 0u);
   EXPECT_FALSE(t.allow(SessionError::kMalformedTopicInfo, 1.0, held));
-  // Another kind right after is printed (one shared throttle hid it: issue 21).
+  // Another kind right after is printed (one shared throttle once hid it).
   EXPECT_TRUE(t.allow(SessionError::kCommandTypeMismatch, 1.5, held));
   EXPECT_FALSE(t.allow(SessionError::kCommandTypeMismatch, 2.0, held));
   EXPECT_FALSE(t.allow(SessionError::kMalformedTopicInfo, 9.9, held));

@@ -1,4 +1,4 @@
-// Issue 9: the predictive danger model (corridor prediction over the reaction time) and its
+// The predictive danger model (corridor prediction over the reaction time) and its
 // per-track hysteresis, against the paper's rule on the same objects. Zebra profile: corridor
 // |y| <= 0.7 + 0.3 m, 0 <= x <= 0.5 + 1.0 m, reaction time 3 s.
 #include <algorithm>
@@ -207,7 +207,7 @@ TEST(DangerHysteresis, OnAtOnceOnlyWhenTheMeanPredictionEnters) {
   EXPECT_EQ(assessDanger(boxAt(1.0, 1.6, 0.1, 0.0, -1.0), zebra(DangerModel::kPaper)).mean_time_to_corridor_s, -1.0);
 }
 
-// Issue 19: the vehicle predicted along its own twist. A road car (corridor |y| <= 1.2 + 0.3 m,
+// The vehicle predicted along its own twist. A road car (corridor |y| <= 1.2 + 0.3 m,
 // 0 <= x <= 2 + 5 m, 2 s) at 10 m/s on a left bend of radius 50 m.
 DangerParams roadCar() {
   DangerParams p;

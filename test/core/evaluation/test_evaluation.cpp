@@ -385,7 +385,7 @@ TEST(Evaluate, EpisodesLeadTimeIdSwitchesVelocityLatencyDuty) {
   EXPECT_NE(toJson(r, "t").find("\"caught\": 1"), std::string::npos);
 }
 
-// Issue 21: "caught" means the object itself (or a fragment of it) was flagged, not the lamp on
+// "Caught" means the object itself (or a fragment of it) was flagged, not the lamp on
 // for any reason. Object 1 is dangerous while the lamp is on because of object 3 (a dangerous
 // detection elsewhere) and its own detection is never flagged: missed. Object 2's fragment (a
 // detection left over within the match distance) is flagged: caught.
@@ -593,7 +593,7 @@ TEST(Evaluation, SettledVelocityAndCentreOffsetSteps) {
   EXPECT_NE(toJson(r, "t").find("\"offset_step_rms_m\": 0.2"), std::string::npos);
 }
 
-// Issue 19: the speed over ground of settled tracks of objects that stand still, judged with the
+// The speed over ground of settled tracks of objects that stand still, judged with the
 // frame's ego twist; frames without ego motion and moving objects do not count.
 TEST(Evaluate, StaticObjectsSpeedOverGround) {
   std::vector<EvalFrame> frames;
@@ -625,7 +625,7 @@ TEST(Evaluate, StaticObjectsSpeedOverGround) {
   EXPECT_EQ(evaluate(frames, EvalParams()).static_speed_samples, 0u);
 }
 
-// Issue 22: a box on a parked car whose track moves with the vehicle (a scan line sliding along
+// A box on a parked car whose track moves with the vehicle (a scan line sliding along
 // it) is found, but its velocity does not agree with the car's; objects without a known velocity
 // never agree.
 TEST(Evaluate, FoundWithTheVelocityWithinTheTolerance) {

@@ -1,4 +1,4 @@
-// Pins the segmented lamp's energy (issue 23): the paper's 22-minute drive with an 8-segment 25 W
+// Pins the segmented lamp's energy: the paper's 22-minute drive with an 8-segment 25 W
 // LED lamp, best case, below the paper's binary LED best case (0.975 Wh), by the same rounding;
 // and the measured integration of LampCommand levels.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // StampCheck: frames whose stamp is zero, repeats, goes backwards or jumps ahead are rejected,
-// so they never reach the tracker as dt = 0 or a reset (issue 21).
+// so they never reach the tracker as dt = 0 or a reset.
 #include <cmath>
 #include <random>
 

@@ -113,7 +113,7 @@ TEST(LightController, ValidateNamesTheParameter) {
             std::string::npos);
 }
 
-// Issue 21: a timeout never switches the watchdog off; 0, negative, NaN and huge are refused and
+// A timeout never switches the watchdog off; 0, negative, NaN and huge are refused and
 // the message names the explicit switch.
 TEST(LightController, WatchdogTimeoutZeroNegativeOrHugeIsRefused) {
   for (double bad : {0.0, -5.0, 1e9, 5.01, std::nan("")}) {
@@ -128,7 +128,7 @@ TEST(LightController, WatchdogTimeoutZeroNegativeOrHugeIsRefused) {
   EXPECT_EQ(validate(p), "");
 }
 
-// Issue 49: a slow publish or tick rate never silences the lamp side. Rates below the floor, or a
+// A slow publish or tick rate never silences the lamp side. Rates below the floor, or a
 // tick slower than the publication, are refused with the key named; the watchdog's own timer
 // runs at least as often as a tick of the usual profiles.
 TEST(LightController, PublishAndTickRatesBelowTheFloorAreRefused) {
@@ -156,7 +156,7 @@ TEST(LightController, OnlyTheExplicitSwitchDisablesTheWatchdog) {
   EXPECT_FALSE(off.on());
 }
 
-// Issue 21: a blind sensor is no clear road. Lamp ON with kSensorBlind for as long as the inputs
+// A blind sensor is no clear road. Lamp ON with kSensorBlind for as long as the inputs
 // say blind, over the timer's state, and back to the timer when the returns come back.
 TEST(LightController, BlindSensorLightsTheLampUntilTheReturnsComeBack) {
   LightControllerParams p;
@@ -188,7 +188,7 @@ TEST(LightControllerIllumination, BlindSensorWinsOverDaylight) {
   EXPECT_EQ(lc.reason(), LightReason::kSensorBlind);
 }
 
-// The illumination gate (issue 7): off by default, the paper's machine unchanged.
+// The illumination gate: off by default, the paper's machine unchanged.
 LightControllerParams gatedParams() {
   LightControllerParams p = paperParams();
   p.stale_timeout_s = 0.3;

@@ -1,4 +1,4 @@
-// Issue 19: the vehicle's own motion between frames (EgoMotion), the relative velocity it implies,
+// The vehicle's own motion between frames (EgoMotion), the relative velocity it implies,
 // and the constant-turn prediction of the vehicle the danger model uses.
 #include <cmath>
 

@@ -1,4 +1,4 @@
-// LidarOdometry (issue 19): simulated scans of a street (buildings with gaps, parked cars, poles)
+// LidarOdometry: simulated scans of a street (buildings with gaps, parked cars, poles)
 // taken from a vehicle on a known path, straight then turning, are registered and the recovered
 // trajectory is compared with the true one; a featureless corridor does not diverge; time going
 // backwards resets; empty, tiny and NaN input; a scene that no longer matches the map falls back to

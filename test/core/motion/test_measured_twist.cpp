@@ -1,4 +1,4 @@
-// TwistHistory (issue 19): the vehicle's measured speed and yaw rate looked up at a cloud's stamp.
+// TwistHistory: the vehicle's measured speed and yaw rate looked up at a cloud's stamp.
 #include "icanc/core/motion/measured_twist.hpp"
 
 #include <cmath>

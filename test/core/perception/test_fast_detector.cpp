@@ -165,7 +165,7 @@ TEST(FastDetector, ObjectsApartAreSeparateAndTouchingOnesJoin) {
   EXPECT_EQ(boxes.size(), 2u);
 }
 
-// Issue 22, item 1: a pedestrian (top 1.7 m above the road) against a 32 m hedge or wall (2.4 m),
+// A pedestrian (top 1.7 m above the road) against a 32 m hedge or wall (2.4 m),
 // no gap between them, is its own obstacle; with link_max_step_m 0 (no height check) the two join,
 // as KITTI 0000's pedestrian 12 joined the 22-37 m hedge beside it in 11 of 16 frames.
 TEST(FastDetector, PedestrianAgainstATallerWallStaysApart) {
@@ -197,7 +197,7 @@ TEST(FastDetector, PedestrianAgainstATallerWallStaysApart) {
   EXPECT_EQ(boxes.size(), 1u);
 }
 
-// Issue 22, item 1: two walkers side by side 0.3 m apart (mount_robot16_clutter's pair) fall
+// Two walkers side by side 0.3 m apart (mount_robot16_clutter's pair) fall
 // into touching cells of the 0.25 m grid, so link_m makes them one box; with link_gap_m the
 // cells link only where their points come within 0.25 m: two boxes. A car whose hood and cabin
 // are 0.3 m apart (glass without returns) is larger than link_gap_max_extent_m and stays whole;
@@ -306,7 +306,7 @@ Cloud renderMounted(const sim::Scene& scene, const sim::LidarModel& model, float
   return cloud;
 }
 
-// Issue 22, item 2: a 32-beam unit 1.9 m up (mount_roof32_clutter), with the carla_model3
+// A 32-beam unit 1.9 m up (mount_roof32_clutter), with the carla_model3
 // profile's ROI.
 Cloud renderRoof32(const sim::Scene& scene, float sensor_x) {
   return renderMounted(scene, sim::LidarModel::hdl32e(), sensor_x, 1.9f, 11);
@@ -360,7 +360,7 @@ TEST(FastDetector, PedestrianUnderAShelterRoofIsFound) {
     EXPECT_GE(found->num_points, 10) << distance;
   }
 
-  // With the overhang check off (overhang_gap_m 0: the grid before issue 22's item 2) the roof
+  // With the overhang check off (overhang_gap_m 0: the grid without it) the roof
   // joins the walker to the shelter up to 12 m ahead: one box of roof, wall and walker.
   FastDetectorParams off;
   off.overhang_gap_m = 0.0f;
@@ -423,7 +423,7 @@ TEST(FastDetector, CanopyOverTheRoadIsNoObstacleAndWhatStandsUnderItIsFound) {
   EXPECT_FALSE(boxes.empty());
 }
 
-// Issue 22, item 5: the parked cars of night_parked_cars (carla128, 0.72 deg columns, 1.8 m up),
+// The parked cars of night_parked_cars (carla128, 0.72 deg columns, 1.8 m up),
 // rendered into base_link (the road at z = 0) with the carla_model3 profile's ROI.
 Cloud renderCarla128(const sim::Scene& scene, float sensor_x) {
   return renderMounted(scene, sim::LidarModel::carla128(), sensor_x, 1.8f, 13);

@@ -271,7 +271,7 @@ Cloud carPark(float road_step) {
   return cloud;
 }
 
-// Issue 22: a roof unit's sparse road and the cars' flat roofs: RANSAC's best horizontal plane
+// A roof unit's sparse road and the cars' flat roofs: RANSAC's best horizontal plane
 // is the roofs, 1.5 m above the road, and the paper's detector deleted the car bodies. Now that
 // plane is rejected (the road is at 0 in the vehicle frame) and the retry near 0 finds the road.
 TEST(GroundRemoval, RoofPlaneThatPlainRansacTakesIsRejectedAndTheRoadFound) {

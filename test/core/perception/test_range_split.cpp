@@ -1,4 +1,4 @@
-// The fast path's range-image split (issue 22, item 1; FastDetectorParams::range_split_*): a
+// The fast path's range-image split (FastDetectorParams::range_split_*): a
 // road user beside what it stands against — a wall behind a walker, a second cyclist, a parked
 // car — comes apart from it where the grid joins them, and a car seen from its corner stays one
 // box. Simulated scans (the sensor presets the scenarios use) in base_link, sensor origin set.

@@ -1,4 +1,4 @@
-// Issue 19: tracks kept in the fixed frame. Seen from a vehicle that drives and turns, a parked car
+// Tracks kept in the fixed frame. Seen from a vehicle that drives and turns, a parked car
 // keeps a velocity over ground of about zero and a walker its own walking velocity, when the tracker
 // is given the vehicle's motion between frames; without it (the paper's relative tracking) the
 // parked car sweeps past at the vehicle's speed.
@@ -123,7 +123,7 @@ Box3D parkedCarSeenFrom(const Eigen::Isometry3d& pose, const Eigen::Vector2d& ce
   return fitBox(cloud, nullptr, 1.0f);
 }
 
-// Issue 19: the tracker measures the faces nearest the sensor (the shipped anchor). A car parked
+// The tracker measures the faces nearest the sensor (the shipped anchor). A car parked
 // at 35 deg to the road, seen from a vehicle turning at 0.25 rad/s: its axis-aligned box in the
 // vehicle frame changes shape every frame (its faces there move at about 1 m/s), yet it stands
 // still. Its faces are measured along axes fixed to the ground.

@@ -43,7 +43,7 @@ constexpr std::uint16_t kFirstUserTopic = 100;
 // Message types and md5sums (computed from the message definitions, as genmsg does).
 constexpr const char* kBoolType = "std_msgs/Bool";
 constexpr const char* kBoolMd5 = "8b94c1b53db61fb6aed406028ad6332a";
-constexpr const char* kUInt8ArrayType = "std_msgs/UInt8MultiArray";  // segment levels (issue 23)
+constexpr const char* kUInt8ArrayType = "std_msgs/UInt8MultiArray";  // segment levels
 constexpr const char* kUInt8ArrayMd5 = "82373f1612381bb6ee473b5cd6f5d89c";
 constexpr const char* kTimeType = "std_msgs/Time";
 constexpr const char* kTimeMd5 = "cd7166c74c552c311fbcc2fe5a7bc289";

@@ -20,7 +20,7 @@
 // Fail-safe: when no lamp command has come from ROS for cmd_stale_timeout_s (or none yet), the
 // heartbeat commands the lamp ON.
 //
-// Segmented lamp (issue 23, optional): when device_levels_topic is set and the device subscribes
+// Segmented lamp (optional): when device_levels_topic is set and the device subscribes
 // it as std_msgs/UInt8MultiArray, the segment levels (0..255 per segment, onLevels) go with every
 // lamp command (changes and heartbeats) and at once when they change; when the lamp command or
 // the levels are stale (cmd_stale_timeout_s, or none yet) every segment is sent at 255. A device

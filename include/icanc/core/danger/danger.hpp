@@ -23,8 +23,8 @@ enum class Section : std::uint8_t { kLeft = 1, kFront = 2, kRight = 3 };
 const char* toString(Section section);
 
 // Which rule assessDanger applies. kPaper: Listing 1 (the reference, default). kPredictive: the
-// predicted relative motion of the box over the reaction time against the vehicle's corridor
-// (issue 9). kInvalid: an unknown name was read; validate() rejects it.
+// predicted relative motion of the box over the reaction time against the vehicle's corridor.
+// kInvalid: an unknown name was read; validate() rejects it.
 enum class DangerModel : std::uint8_t { kPaper, kPredictive, kInvalid };
 const char* toString(DangerModel model);
 // "paper" / "predictive" -> the model; anything else -> kInvalid.

@@ -172,7 +172,7 @@ struct EvalReport {
   double box_bias_near_m = 0.0;
   double box_bias_side_m = 0.0;
   std::size_t box_bias_samples = 0;
-  // Tracking in the fixed frame (issue 19): the speed over ground of the tracks matched to true
+  // Tracking in the fixed frame: the speed over ground of the tracks matched to true
   // objects that stand still (their true relative velocity plus the frame's ego twist at them is
   // below EvalParams::static_speed_mps), median and 90th percentile over settled tracks. Zero
   // samples when the graph reports no ego motion (every object moves relative to the vehicle).

@@ -1,4 +1,4 @@
-// The segmented lamp on a scored replay (issue 23 targets): the frames' dangerous detections drive,
+// The segmented lamp on a scored replay: the frames' dangerous detections drive,
 // offline and side by side, the paper's binary controller and the segmented one (watchdog off:
 // frames are given). Coverage: of the truly dangerous object-frames the binary lamp lights, the
 // share whose true footprint (its axis-aligned bounds, seen from the lamp) meets a lit segment.

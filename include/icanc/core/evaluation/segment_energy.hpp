@@ -1,4 +1,4 @@
-// Energy of a segmented (matrix) lamp (issue 23), beside the binary lamp of energy.hpp: each
+// Energy of a segmented (matrix) lamp, beside the binary lamp of energy.hpp: each
 // segment draws its watts x its level (0..1, icanc/LampCommand levels) while lit.
 //
 // Paper cases: worst = every segment always on (the binary lamp's worst case); average and best =

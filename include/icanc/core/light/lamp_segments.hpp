@@ -1,4 +1,4 @@
-// A segmented (matrix) headlight (issue 23): a list of segments across the field of view, each an
+// A segmented (matrix) headlight: a list of segments across the field of view, each an
 // azimuth range seen from the lamp, in base_link (REP-103: x forward, y left; degrees,
 // counter-clockwise positive, 0 = straight ahead, +90 = left). The paper's single lamp is one
 // segment covering every direction, and the default (an absent or empty `segments` list).

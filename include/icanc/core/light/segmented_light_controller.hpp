@@ -1,4 +1,4 @@
-// The paper's light controller per lamp segment (issue 23): one icanc::LightController per
+// The paper's light controller per lamp segment: one icanc::LightController per
 // segment, each fed every input, with danger when a dangerous object's box (seen from the lamp,
 // widened by segment_margin_deg) meets its azimuth range. The paper's lamp is the one-segment case:
 // its segment covers every direction, so it sees exactly the inputs of a single LightController.

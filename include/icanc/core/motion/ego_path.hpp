@@ -1,7 +1,7 @@
 // The vehicle's planned path (a planner's nav_msgs/Path), as the predictive danger model follows
 // it instead of the constant turn of the current twist: where the road bends the other way
 // within the reaction time (an S-bend), the twist's arc leaves the road and sweeps the corridor
-// over what stands beside it; the planner's path stays on the road (issue 19). No ROS: the
+// over what stands beside it; the planner's path stays on the road. No ROS: the
 // DangerDetector nodelet transforms the message into the vehicle frame at the obstacles' stamp.
 #pragma once
 

@@ -1,4 +1,4 @@
-// LiDAR odometry for vehicles without wheel odometry (issue 19): each cloud is registered against
+// LiDAR odometry for vehicles without wheel odometry: each cloud is registered against
 // a small local map of the previous clouds, as KISS-ICP does it (Vizzo et al., RA-L 2023):
 //
 //  1. the cloud (already in the vehicle frame) is range-filtered and voxel-downsampled twice, one

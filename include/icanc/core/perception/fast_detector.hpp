@@ -109,7 +109,7 @@ struct FastDetectorParams {
                                     // its top within link_max_step_m of its own, continues its
                                     // surface; 0: off [m]
   float grazing_angle_deg = 20.0f;  // ... at most this far off the line of sight [deg]
-  // Point-gap link (issue 22, item 1): > 0: inside components at most link_gap_max_extent_m
+  // Point-gap link: > 0: inside components at most link_gap_max_extent_m
   // across (a pedestrian, a pair of them, a pole and its walker), neighbouring cells link only
   // when the bounds of their points come within this: two walkers 0.3 m apart whose points fall
   // into touching cells come apart. 0: off [m].
@@ -118,7 +118,7 @@ struct FastDetectorParams {
                                        // the gap cut KITTI's cars at their glass [m]
   int min_points = 10;              // points per obstacle (raw cloud, no voxel grid)
   int max_points = 20000;
-  // Range-image split (issue 22, item 1; Bogoslavskyi & Stachniss's angle criterion): the points
+  // Range-image split (Bogoslavskyi & Stachniss's angle criterion): the points
   // of a component at least range_split_min_extent_m across are laid out by azimuth (column) and
   // elevation (row) as seen from the sensor; two neighbouring returns belong to one surface when
   // the angle at the farther one between its beam and the line to the nearer exceeds
