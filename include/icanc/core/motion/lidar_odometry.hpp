@@ -55,7 +55,7 @@ struct LidarOdometryParams {
   double max_correction_m = 3.0;          // larger correction of the prior per frame: degenerate
   // Fewer matched points constraining the weakest horizontal direction than this share
   // (LidarOdometryStats::horizontal_observability): degenerate. A road with walls along it only
-  // lets ICP slide and report "not moving"; KITTI 0000's street: 0.197 at least, 0.257 median.
+  // lets ICP slide and report "not moving"; a street with façades along it stays above it.
   double min_horizontal_observability = 0.12;
   double max_dt_s = 1.0;                  // longer gap between clouds: motion prior dropped [s]
   // Point-to-plane residuals where the map around a match is a plane (its points' smallest spread
@@ -174,8 +174,8 @@ class VoxelIndex {
 // The voxels one frame holds, around the sensor, for "the first point of each voxel": a dense
 // grid of columns (x and y within `half` voxels of the origin) of 64-bit masks over the voxels
 // z = -32 .. 31, the rest in a VoxelIndex. A scan visits neighbouring voxels one after another;
-// a hash scatters them over its table, and its lookups (one per voxel change along the scan, a
-// cache miss each) were 0.5 ms of a KITTI frame's 2.3 ms. Cleared through the columns it touched.
+// a hash scatters them over its table, and its lookups (one per voxel change along the scan)
+// would each miss the cache. Cleared through the columns it touched.
 // A voxel's indices along x, y, z and their packed key (LidarOdometry::voxelOf).
 struct VoxelCoord {
   std::int32_t i, j, k;

@@ -169,7 +169,7 @@ class FastDetector {
   void setSensorOrigin(const Eigen::Vector3f& origin) { sensor_origin_ = origin; }
   // Angular steps [deg] the range split measured (on the last frame that could tell; 0: none).
   // They are the sensor's: once known, measured again only every kStepsEveryFrames frames (1 s
-  // at 10 Hz; the estimate sorts 1500 rays twice, 0.1-0.2 ms of a KITTI frame).
+  // at 10 Hz; the estimate sorts the rays twice, a cost not worth paying every frame).
   static constexpr int kStepsEveryFrames = 10;
   float rangeColumnDeg() const { return range_col_deg_; }
   float rangeRowDeg() const { return range_row_deg_; }
@@ -275,8 +275,7 @@ class FastDetector {
   std::vector<std::int32_t> polar_of_cell_;  // BEV cell -> polar cell (sector * bins_ + bin)
   // Storage of pass 1: the first kept_ entries are this frame's points. Pass 1 writes each field
   // in place through a pointer; push_back of a temporary stalled store forwarding (a 16-byte
-  // load right after four 4-byte stores, 40 % of pass 1 in perf), and at -O2 emplace_back
-  // stayed a call per point.
+  // load right after four 4-byte stores), and at -O2 emplace_back stayed a call per point.
   std::vector<Kept> points_;
   std::size_t kept_ = 0;
   std::vector<float> cell_min_z_;             // lowest z per BEV cell, +inf when empty
@@ -359,8 +358,7 @@ void FastDetector::detectFrom(Source&& source, std::vector<Box3D>& boxes, FastSt
     // ROI closed, ego box closed (as prepareCloud). Written as "inside" tests so that NaN (every
     // comparison false) and +-Inf (beyond the finite ROI) fall out without isfinite calls, and
     // combined into one branch: the && chains were a branch per comparison. With SSE2 (every
-    // x86-64) each box is two packed comparisons of (x, y, z, z), not six scalar ones: pass 1 of
-    // a KITTI frame 1.27 -> 0.68 ms (docs/performance.md).
+    // x86-64) each box is two packed comparisons of (x, y, z, z), not six scalar ones.
 #if defined(__SSE2__)
     const __m128 v = _mm_setr_ps(x, y, z, z);
     const int in_roi = _mm_movemask_ps(_mm_and_ps(_mm_cmpge_ps(v, roi_lo), _mm_cmple_ps(v, roi_hi)));
