@@ -2,6 +2,8 @@
 // it subscribes to their outputs and to their ~publish_trace topics, and checks that every
 // message it receives is the very object the publisher handed to roscpp (same stamp, same
 // address). It publishes its counts on ~report (std_msgs/String, latched) every second.
+// With ~cloud_topic and ~cloud_trace (a cloud publisher's ~publish_trace, e.g. the BagPlayer's), it
+// checks the clouds on that topic the same way.
 #include <map>
 #include <mutex>
 #include <set>
@@ -9,6 +11,7 @@
 #include <utility>
 
 #include <nodelet/nodelet.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
@@ -37,6 +40,16 @@ class ZeroCopyProbe : public nodelet::Nodelet {
     subs_.push_back(nh.subscribe<LightState>("light_state", 100, [this](const LightState::ConstPtr& m) {
       received("light_state", m->header.stamp, m.get());
     }));
+    std::string cloud_topic, cloud_trace;
+    getPrivateNodeHandle().getParam("cloud_topic", cloud_topic);
+    getPrivateNodeHandle().getParam("cloud_trace", cloud_trace);
+    if (!cloud_topic.empty() && !cloud_trace.empty()) {
+      traces_.push_back(nh.subscribe(cloud_trace, 1000, &ZeroCopyProbe::onTrace, this));
+      subs_.push_back(nh.subscribe<sensor_msgs::PointCloud2>(
+          cloud_topic, 100, [this, cloud_topic](const sensor_msgs::PointCloud2::ConstPtr& m) {
+            received(shortTopic(cloud_topic), m->header.stamp, m.get());
+          }));
+    }
     report_pub_ = getPrivateNodeHandle().advertise<std_msgs::String>("report", 1, true);
     timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { report(); });
   }
