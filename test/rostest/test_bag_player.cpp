@@ -24,20 +24,11 @@
 #include <unistd.h>
 
 #include "icanc/ObstacleArray.h"
+#include "graph_fixture.hpp"
 
 namespace icanc {
 namespace test {
 namespace {
-
-template <class Pred>
-bool waitFor(Pred pred, double timeout) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return pred();
-}
 
 // "topic received=N same_object=M" lines of the probe's report: (received, same) of `topic`.
 std::pair<std::size_t, std::size_t> probeCounts(const std::string& report, const std::string& topic) {
