@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 namespace icanc {
@@ -44,9 +45,20 @@ class SectorIndex {
 
 constexpr int kMaxSectors = 72;
 
+// The table for `sectors`, built once per thread and sector count (not once per frame).
+const SectorIndex& sectorIndex(int sectors) {
+  thread_local int built_for = 0;
+  thread_local std::unique_ptr<SectorIndex> index;
+  if (built_for != sectors) {
+    index.reset(new SectorIndex(sectors));
+    built_for = sectors;
+  }
+  return *index;
+}
+
 }  // namespace
 
-int azimuthSector(float x, float y, int sectors) { return SectorIndex(sectors)(x, y); }
+int azimuthSector(float x, float y, int sectors) { return sectorIndex(sectors)(x, y); }
 
 std::string validate(const SensorHealthParams& params) {
   std::ostringstream why;
@@ -88,7 +100,7 @@ std::size_t countValidReturns(const RawCloud& in, const DecodePlan& plan,
     });
     return valid;
   }
-  const SectorIndex sector(params.sectors);
+  const SectorIndex& sector = sectorIndex(params.sectors);
   sectors->valid.assign(params.sectors, 0);
   sectors->returned.assign(params.sectors, 0);
   std::uint32_t* valid_in = sectors->valid.data();
