@@ -3,6 +3,7 @@
 #include <pthread.h>
 
 #include <cmath>
+#include <exception>
 #include <map>
 #include <vector>
 
@@ -87,8 +88,18 @@ bool BagPlayer::sleepUntil(std::chrono::steady_clock::time_point deadline) {
 
 void BagPlayer::run() {
   pthread_setname_np(pthread_self(), options_.thread_name.substr(0, 15).c_str());
-  const std::string name = private_nh_.getNamespace();
   finished_pub_ = private_nh_.advertise<std_msgs::UInt32>("finished", 1, true);
+  // A damaged bag stops the playing, never the manager the player shares with the graph.
+  try {
+    play();
+  } catch (const std::exception& e) {
+    ROS_ERROR("[%s] %s stopped after %llu clouds: %s", private_nh_.getNamespace().c_str(),
+              options_.bag.c_str(), static_cast<unsigned long long>(clouds_.load()), e.what());
+  }
+}
+
+void BagPlayer::play() {
+  const std::string name = private_nh_.getNamespace();
   rosbag::Bag bag;
   try {
     bag.open(options_.bag, rosbag::bagmode::Read);

@@ -57,6 +57,8 @@ class BagPlayer {
 
  private:
   void run();
+  // Plays the bag; throws what rosbag throws on a damaged bag.
+  void play();
   // Sleeps until `deadline` (steady clock) or stop; false when stopped.
   bool sleepUntil(std::chrono::steady_clock::time_point deadline);
 
