@@ -18,6 +18,7 @@
 
 #include "icanc/LightState.h"
 #include "icanc/ObstacleArray.h"
+#include "icanc/core/input/stamp_check.hpp"
 #include "icanc/sim/lidar_sim.hpp"
 #include "icanc/sim/scenario.hpp"
 
@@ -49,6 +50,38 @@ bool waitFor(Pred pred, double timeout) {
   }
   return pred();
 }
+
+// Paces frames sent by hand as a sensor sends them: each at the wall time its stamp gives, counted
+// from the first frame. A frame that cannot keep that pace (the graph answered late, the test
+// paused to reconfigure) is held instead until its receipt is a stall after the previous one
+// (beyond kStampRateMaxGapS), and the pace starts again from it: the ObstacleDetector's stamp-rate
+// check sees a sensor in step or a new stream, never a sensor clock running slow.
+class StampPacer {
+ public:
+  // Returns when the frame stamped `stamp` is due; call just before publishing it.
+  void wait(const ros::Time& stamp) {
+    if (!stamp0_.isZero()) {
+      const ros::WallTime due = wall0_ + ros::WallDuration((stamp - stamp0_).toSec());
+      if (ros::WallTime::now() <= due + ros::WallDuration(kLateS)) {
+        sleepUntil(due);
+        last_ = ros::WallTime::now();
+        return;
+      }
+      sleepUntil(last_ + ros::WallDuration(kStampRateMaxGapS + kLateS));
+    }
+    stamp0_ = stamp;
+    wall0_ = last_ = ros::WallTime::now();
+  }
+
+ private:
+  static constexpr double kLateS = 0.1;  // lateness taken up by the pace [s]
+  static void sleepUntil(const ros::WallTime& t) {
+    const ros::WallTime now = ros::WallTime::now();
+    if (now < t) (t - now).sleep();
+  }
+  ros::Time stamp0_;
+  ros::WallTime wall0_, last_;
+};
 
 struct Recorder {
   std::mutex mutex;
@@ -120,14 +153,15 @@ class GraphFixture {
 
   void publishRaw(const sensor_msgs::PointCloud2::ConstPtr& msg) { cloud_pub_.publish(msg); }
 
-  // Publishes every frame of the scenario at its rate, stamped from now on; returns the first stamp.
+  // Publishes every frame of the scenario at its rate (StampPacer), stamped from now on; returns
+  // the first stamp.
   ros::Time playScenario() {
     const ros::Time t0 = ros::Time::now();
-    ros::Rate rate(scenario_.rate_hz);
+    StampPacer pacer;
     for (std::size_t k = 0; k < scenario_.frames() && ros::ok(); ++k) {
       const double t = k / scenario_.rate_hz;
+      pacer.wait(t0 + ros::Duration(t));
       publishFrame(t, t0 + ros::Duration(t));
-      rate.sleep();
     }
     return t0;
   }

@@ -52,17 +52,11 @@ class EgoMotionFaults : public ::testing::Test {
     }
     // Paced by the stamps, as a sensor: the detector refuses stamps that run ahead of (or behind)
     // their receipt, a sensor clock running fast or slow.
-    ros::WallTime due = pace_wall_ + ros::WallDuration((stamp - pace_stamp_).toSec());
-    if (pace_stamp_.isZero() || ros::WallTime::now() > due + ros::WallDuration(0.1)) {
-      pace_stamp_ = stamp;  // first frame, or late after a wait: paced from here
-      pace_wall_ = due = ros::WallTime::now();
-    }
-    if (ros::WallTime::now() < due) (due - ros::WallTime::now()).sleep();
+    pacer_.wait(stamp);
     g_.publishFrame(1.0, stamp);
     return g_.recorder().waitForStamp(g_.recorder().detections, stamp);
   }
-  ros::Time pace_stamp_;
-  ros::WallTime pace_wall_;
+  StampPacer pacer_;
 
   // Frames with poses at 2 m/s from now until the graph answers (the first may go unanswered
   // while connections settle: bad_input's firstFrame), then `more`. Null when it never answered.

@@ -56,15 +56,14 @@ class LiveTuning : public ::testing::Test {
     return it == markers_.end() ? visualization_msgs::Marker() : it->second;
   }
 
-  // Publishes the frame of scenario time t_ (stamped t0 + t_), advances t_ by one frame and
-  // waits for its danger array.
+  // Publishes the frame of scenario time t_ (stamped t0 + t_) at the sensor's pace, advances t_
+  // by one frame and waits for its danger array.
   ObstacleArray::ConstPtr frame() {
     const ros::Time stamp = t0_ + ros::Duration(t_);
+    pacer_.wait(stamp);
     g_.publishFrame(t_, stamp);
     t_ += 1.0 / g_.scenario().rate_hz;
-    const ObstacleArray::ConstPtr out = g_.recorder().waitForStamp(g_.recorder().arrays, stamp);
-    ros::WallDuration(0.1).sleep();  // keep the sensor's 10 Hz: no watchdog, no stamp gaps
-    return out;
+    return g_.recorder().waitForStamp(g_.recorder().arrays, stamp);
   }
 
   LightState::ConstPtr stateFor(const ros::Time& cloud_stamp) {
@@ -87,6 +86,7 @@ class LiveTuning : public ::testing::Test {
   std::map<std::string, long> rejected_;
   ros::Time t0_ = ros::Time::now();
   double t_ = 0.0;
+  StampPacer pacer_;
   // Declared last, so destroyed first: a subscriber's destructor waits for a running callback,
   // which then never writes into members already freed (ASan caught it at fixture teardown).
   ros::Subscriber markers_sub_, diag_sub_;
