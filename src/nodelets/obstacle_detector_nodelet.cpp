@@ -114,8 +114,6 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     ObstacleDetectorParams tuned;
     if (live_->take(tuned)) pipeline_->setParams(tuned);
     const RawCloud raw = toRawCloud(msg);
-    // A blind sensor (too few valid returns) is flagged in the output: it lights the lamp.
-    const std::size_t valid_points = checks_.checkHealth(raw, cloud.plan);
     DetectorPipelineInput in;
     in.stamp_s = stamp_s;
     in.frame = t.frame;
@@ -124,7 +122,10 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     in.to_frame = t.to_frame;
     in.fixed_T_vehicle = t.has_pose ? &t.pose : nullptr;
     in.collect_moving_points = points_pub_[2].getNumSubscribers() > 0;
+    in.returns = &checks_.beginCount();
     const DetectorPipelineResult r = pipeline_->process(in);
+    // A blind sensor (too few valid returns) is flagged in the output: it lights the lamp.
+    const std::size_t valid_points = checks_.checkHealth(static_cast<std::size_t>(raw.width) * raw.height);
     status_.logFrame(*pipeline_, r, t, msg.header.frame_id, stamp_s);
 
     auto out = boost::make_shared<ObstacleArray>();

@@ -47,11 +47,10 @@ bool CloudInputChecks::stampValid(const ros::Time& stamp, InputMonitor& input) {
   return false;
 }
 
-std::size_t CloudInputChecks::checkHealth(const RawCloud& raw, const DecodePlan& plan) {
-  const std::size_t valid = countValidReturns(raw, plan, health_.params(), &sector_counts_);
-  const std::size_t points = static_cast<std::size_t>(raw.width) * raw.height;
+std::size_t CloudInputChecks::checkHealth(std::size_t points) {
+  const std::size_t valid = returns_.valid();
   const bool was_blind = health_.blind();
-  if (health_.update(valid, points, sector_counts_)) {
+  if (health_.update(valid, points, returns_.sectors())) {
     if (health_.blindSector() >= 0) {
       const double width = 360.0 / health_.params().sectors;
       ROS_ERROR_THROTTLE_NAMED(1.0, log_name_, "[%s] sensor blind in azimuth %.0f..%.0f deg: %.1f %% "

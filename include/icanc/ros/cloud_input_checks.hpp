@@ -30,9 +30,16 @@ class CloudInputChecks {
   // False (counted, warned about, `input` told) when the frame's stamp is not valid input.
   bool stampValid(const ros::Time& stamp, InputMonitor& input);
 
-  // Counts the valid returns of a cloud planDecode accepted and updates the sensor's health
-  // (error while blind, throttled). Returns the count; blind() tells the verdict.
-  std::size_t checkHealth(const RawCloud& raw, const DecodePlan& plan);
+  // Starts counting a frame's returns: the DetectorPipeline counts them in its pass over the cloud
+  // (DetectorPipelineInput::returns).
+  ReturnCounter& beginCount() {
+    returns_.begin(health_.params());
+    return returns_;
+  }
+  // Updates the sensor's health with the returns counted since beginCount() in a cloud of
+  // `points` points (error while blind, throttled). Returns the valid count; blind() tells the
+  // verdict.
+  std::size_t checkHealth(std::size_t points);
   bool blind() const { return health_.blind(); }
 
   // Counters, and ERROR while blind / WARN when stamps were rejected since the last report
@@ -43,7 +50,7 @@ class CloudInputChecks {
   std::string log_name_;
   StampCheck stamps_;
   SensorHealth health_;
-  SectorReturns sector_counts_;  // returns per azimuth sector, this frame
+  ReturnCounter returns_;  // this frame's returns, per azimuth sector
   ros::WallTime logged_[kStampVerdicts];
   std::uint64_t reported_rejected_ = 0;
 };

@@ -10,55 +10,55 @@ namespace icanc {
 
 namespace {
 
-// A monotonic stand-in for atan2(y, x) over [0, 2 pi): the "diamond angle" in [0, 4), one unit
-// per quadrant, a division instead of a transcendental call per point.
-inline float diamondAngle(float x, float y) {
-  if (y >= 0.0f) return x >= 0.0f ? y / (x + y) : 1.0f - x / (y - x);
-  return x < 0.0f ? 2.0f - y / (-x - y) : 3.0f + x / (x - y);
-}
+constexpr int kMaxSectors = 72;
 
-// Sector of a direction by table over the diamond angle: 1024 bins per quadrant put a boundary
-// at most a tenth of a degree off the sector's exact edge.
-class SectorIndex {
- public:
-  static constexpr int kBinsPerQuadrant = 1024;
-  explicit SectorIndex(int sectors) {
+}  // namespace
+
+// The table maps each of the 4 * kBinsPerQuadrant diamond-angle bins to its sector: 1024 bins per
+// quadrant put a boundary at most a tenth of a degree off the sector's exact edge.
+const std::uint8_t* ReturnCounter::sectorTable(int sectors) {
+  thread_local int built_for = 0;
+  thread_local std::array<std::uint8_t, 4 * kBinsPerQuadrant> table{};
+  if (built_for != sectors) {
     for (int b = 0; b < 4 * kBinsPerQuadrant; ++b) {
-      // The bin's centre back to an angle: exact inverse of diamondAngle within the quadrant.
+      // The bin's centre back to an angle: exact inverse of the diamond angle within the quadrant.
       const float d = (b + 0.5f) / kBinsPerQuadrant;
       const int q = static_cast<int>(d);
       const float f = d - q;  // tan of the angle within the quadrant is f / (1 - f)
       const double angle = q * M_PI / 2.0 + std::atan2(f, 1.0f - f);
-      lut_[b] = static_cast<std::uint8_t>(
+      table[b] = static_cast<std::uint8_t>(
           std::min(sectors - 1, static_cast<int>(angle / (2.0 * M_PI) * sectors)));
     }
-  }
-  int operator()(float x, float y) const {
-    if (x == 0.0f && y == 0.0f) return lut_[0];
-    const int b = static_cast<int>(diamondAngle(x, y) * kBinsPerQuadrant);
-    return lut_[std::min(b, 4 * kBinsPerQuadrant - 1)];
-  }
-
- private:
-  std::array<std::uint8_t, 4 * kBinsPerQuadrant> lut_{};
-};
-
-constexpr int kMaxSectors = 72;
-
-// The table for `sectors`, built once per thread and sector count (not once per frame).
-const SectorIndex& sectorIndex(int sectors) {
-  thread_local int built_for = 0;
-  thread_local std::unique_ptr<SectorIndex> index;
-  if (built_for != sectors) {
-    index.reset(new SectorIndex(sectors));
     built_for = sectors;
   }
-  return *index;
+  return table.data();
 }
 
-}  // namespace
+int azimuthSector(float x, float y, int sectors) {
+  ReturnCounter counter;
+  counter.sector_ = ReturnCounter::sectorTable(sectors);
+  return counter.sectorOf(x, y);
+}
 
-int azimuthSector(float x, float y, int sectors) { return sectorIndex(sectors)(x, y); }
+void ReturnCounter::begin(const SensorHealthParams& params) {
+  min2_ = static_cast<float>(params.min_range_m * params.min_range_m);
+  max2_ = static_cast<float>(params.max_range_m * params.max_range_m);
+  valid_total_ = 0;
+  if (params.sectors <= 1) {
+    sector_ = nullptr;
+    counts_.valid.clear();
+    counts_.returned.clear();
+    whole_[0] = whole_[1] = 0;
+    returned_ = &whole_[0];
+    valid_ = &whole_[1];
+    return;
+  }
+  sector_ = sectorTable(params.sectors);
+  counts_.valid.assign(params.sectors, 0);
+  counts_.returned.assign(params.sectors, 0);
+  returned_ = counts_.returned.data();
+  valid_ = counts_.valid.data();
+}
 
 std::string validate(const SensorHealthParams& params) {
   std::ostringstream why;
@@ -88,33 +88,13 @@ std::string validate(const SensorHealthParams& params) {
 
 std::size_t countValidReturns(const RawCloud& in, const DecodePlan& plan,
                               const SensorHealthParams& params, SectorReturns* sectors) {
-  const float min2 = static_cast<float>(params.min_range_m * params.min_range_m);
-  const float max2 = static_cast<float>(params.max_range_m * params.max_range_m);
-  std::size_t valid = 0;
+  ReturnCounter counter;
+  counter.begin(params);
   // forEachXYZ already drops non-finite and (0, 0, 0) points; the identity keeps the sensor frame.
-  if (sectors == nullptr || params.sectors <= 1) {
-    if (sectors != nullptr) sectors->valid.clear(), sectors->returned.clear();
-    forEachXYZ(in, plan, Eigen::Affine3f::Identity(), [&](float x, float y, float z) {
-      const float r2 = x * x + y * y + z * z;
-      valid += r2 >= min2 && r2 <= max2;
-    });
-    return valid;
-  }
-  const SectorIndex& sector = sectorIndex(params.sectors);
-  sectors->valid.assign(params.sectors, 0);
-  sectors->returned.assign(params.sectors, 0);
-  std::uint32_t* valid_in = sectors->valid.data();
-  std::uint32_t* returned_in = sectors->returned.data();
-  forEachXYZ(in, plan, Eigen::Affine3f::Identity(), [&](float x, float y, float z) {
-    const float r2 = x * x + y * y + z * z;
-    if (r2 > max2) return;
-    const int k = sector(x, y);
-    ++returned_in[k];
-    if (r2 < min2) return;
-    ++valid;
-    ++valid_in[k];
-  });
-  return valid;
+  forEachXYZ(in, plan, Eigen::Affine3f::Identity(),
+             [&](float x, float y, float z) { counter.add(x, y, z); });
+  if (sectors != nullptr) *sectors = counter.sectors();
+  return counter.valid();
 }
 
 bool SensorHealth::update(std::size_t valid, std::size_t points, const SectorReturns& sectors) {

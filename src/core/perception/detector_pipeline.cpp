@@ -28,11 +28,23 @@ DetectorPipelineResult DetectorPipeline::process(const DetectorPipelineInput& in
   detector_.setSensorOrigin(in.to_frame.translation());  // the cloud frame's origin
 
   DecodeStats stats;
-  if (detector_.fast()) {
+  ReturnCounter* const returns = in.returns;
+  if (detector_.fast() && returns != nullptr) {
+    result.tracker = detector_.processFrom(
+        in.stamp_s,
+        [&](auto&& sink) {
+          stats = forEachXYZ(*in.raw, *in.plan, in.to_frame, sink,
+                             [returns](float x, float y, float z) { returns->add(x, y, z); });
+        },
+        &result.times);
+  } else if (detector_.fast()) {
     result.tracker = detector_.processFrom(
         in.stamp_s, [&](auto&& sink) { stats = forEachXYZ(*in.raw, *in.plan, in.to_frame, sink); },
         &result.times);
   } else {
+    if (returns != nullptr)
+      forEachXYZ(*in.raw, *in.plan, Eigen::Affine3f::Identity(),
+                 [returns](float x, float y, float z) { returns->add(x, y, z); });
     decodeXYZ(*in.raw, in.to_frame, max_points_, cloud_, &stats);
     result.tracker = detector_.process(in.stamp_s, cloud_, &result.times);
     result.ground_fault = countGround();

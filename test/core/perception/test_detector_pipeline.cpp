@@ -3,6 +3,7 @@
 // either method; a change of output frame (a transform that did not come) restarts the tracks and
 // is counted; the ego motion is measured from the poses fed, extrapolated without them, then lost
 // (the tracks restart once, relative from then on); source none steps nothing and counts nothing.
+// The blind-sensor check's returns are counted in the same pass, as a pass of their own counts them.
 #include "icanc/core/perception/detector_pipeline.hpp"
 
 #include <random>
@@ -120,6 +121,40 @@ TEST(DetectorPipeline, TracksInTheOutputFrameAndRestartsWhenItChanges) {
     r = frames.run(0.2);  // a stamp back in time: the tracker restarts, counted
     EXPECT_EQ(r.tracker, MultiObjectTracker::UpdateResult::kResetTimeBackwards) << toString(method);
     EXPECT_EQ(pipeline.counters().time_resets, 1u) << toString(method);
+  }
+}
+
+// The blind-sensor check's returns, counted in the pipeline's pass over the cloud, are the counts
+// of a pass of their own (countValidReturns), in the sensor's frame whatever the mount: a mount
+// turned by 90 degrees would move every sector if they were counted after the transform.
+TEST(DetectorPipeline, CountsTheReturnsInItsPassAsTheBlindCheckDoes) {
+  const Scan scan = render();
+  SensorHealthParams health;
+  health.min_range_m = 5.0;  // the road under the sensor and the pedestrian are nearer: not valid
+  health.max_range_m = 40.0;
+  health.sectors = 12;
+  DecodePlan plan;
+  ASSERT_EQ(planDecode(scan.raw, 2000000, plan), DecodeError::kNone);
+  SectorReturns expected;
+  const std::size_t expected_valid = countValidReturns(scan.raw, plan, health, &expected);
+  ASSERT_GT(expected_valid, 1000u);
+  ASSERT_GT(expected.returned[3], expected.valid[3]) << "the road nearer than min_range_m";
+  Eigen::Affine3f mount = Eigen::Translation3f(0.5f, 0.2f, kMountZ) *
+                          Eigen::AngleAxisf(static_cast<float>(M_PI / 2), Eigen::Vector3f::UnitZ());
+  for (const DetectorMethod method : {DetectorMethod::kFast, DetectorMethod::kClassic}) {
+    DetectorPipeline pipeline(detectorParams(method), EgoMotionParams(), 2000000);
+    ReturnCounter counter;
+    counter.begin(health);
+    DetectorPipelineInput in;
+    in.raw = &scan.raw;
+    in.plan = &plan;
+    in.frame = "base_link";
+    in.to_frame = mount;
+    in.returns = &counter;
+    pipeline.process(in);
+    EXPECT_EQ(counter.valid(), expected_valid) << toString(method);
+    EXPECT_EQ(counter.sectors().valid, expected.valid) << toString(method);
+    EXPECT_EQ(counter.sectors().returned, expected.returned) << toString(method);
   }
 }
 

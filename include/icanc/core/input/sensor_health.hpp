@@ -50,6 +50,51 @@ struct SectorReturns {
   std::vector<std::uint32_t> returned;  // finite, non-zero and within max_range_m, nearer ones too
 };
 
+// Counts a frame's returns point by point, in the sensor frame, so that a pass over the cloud made
+// for something else (the fast detector's decode) counts them too: no second pass for the check.
+class ReturnCounter {
+ public:
+  // Starts a frame (counts zeroed) with the ranges and sectors of `params`.
+  void begin(const SensorHealthParams& params);
+  // One finite, non-zero point of the frame, in the sensor frame.
+  void add(float x, float y, float z) {
+    const float r2 = x * x + y * y + z * z;
+    const std::uint32_t in = r2 <= max2_;
+    const std::uint32_t valid = in & (r2 >= min2_);
+    const int k = sector_ == nullptr ? 0 : sectorOf(x, y);
+    returned_[k] += in;
+    valid_[k] += valid;
+    valid_total_ += valid;
+  }
+  // Valid returns (range in [min_range_m, max_range_m]) since begin().
+  std::size_t valid() const { return valid_total_; }
+  // The counts per sector (empty with params.sectors <= 1).
+  const SectorReturns& sectors() const { return counts_; }
+
+ private:
+  // Sector of the direction (x, y) by table over the "diamond angle" in [0, 4) (one unit per
+  // quadrant): a division instead of a transcendental call per point.
+  int sectorOf(float x, float y) const {
+    if (x == 0.0f && y == 0.0f) return sector_[0];
+    const float d = y >= 0.0f ? (x >= 0.0f ? y / (x + y) : 1.0f - x / (y - x))
+                              : (x < 0.0f ? 2.0f - y / (-x - y) : 3.0f + x / (x - y));
+    const int b = static_cast<int>(d * kBinsPerQuadrant);
+    return sector_[b < 4 * kBinsPerQuadrant - 1 ? b : 4 * kBinsPerQuadrant - 1];
+  }
+
+  static constexpr int kBinsPerQuadrant = 1024;
+  friend int azimuthSector(float x, float y, int sectors);
+  static const std::uint8_t* sectorTable(int sectors);  // built once per thread and count
+
+  float min2_ = 0.0f, max2_ = 0.0f;
+  const std::uint8_t* sector_ = nullptr;  // null: one sector
+  SectorReturns counts_;
+  std::uint32_t* returned_ = nullptr;
+  std::uint32_t* valid_ = nullptr;
+  std::uint32_t whole_[2] = {0, 0};  // returned, valid with one sector
+  std::size_t valid_total_ = 0;
+};
+
 // Valid returns of a cloud planDecode accepted, in the sensor frame (finite, non-zero, range in
 // [min_range_m, max_range_m]). With `sectors` (and params.sectors > 1), also the counts per sector.
 std::size_t countValidReturns(const RawCloud& in, const DecodePlan& plan,

@@ -123,12 +123,20 @@ inline float readCoordinate(const std::uint8_t* p, bool is_double) {
 }
 }  // namespace decode_detail
 
+namespace decode_detail {
+struct NoObserver {
+  void operator()(float, float, float) const {}
+};
+}  // namespace decode_detail
+
 // Reads every point of a cloud planDecode accepted, drops non-finite and (0, 0, 0) points,
 // transforms the rest and calls sink(x, y, z) for each: decodeXYZ writes them into a cloud, the
 // fast detector bins them as they are read (one pass over the message, no intermediate cloud).
-template <class Sink>
+// observe(x, y, z), when given, sees each point the sink gets as the message has it (the cloud's
+// own frame), before the transform: the blind-sensor check counts returns in the same pass.
+template <class Sink, class Observer = decode_detail::NoObserver>
 DecodeStats forEachXYZ(const RawCloud& in, const DecodePlan& plan, const Eigen::Affine3f& transform,
-                       Sink&& sink) {
+                       Sink&& sink, Observer&& observe = Observer()) {
   // The transform as twelve scalars, applied by hand: at -O2 GCC leaves Eigen's 3x3 product as a
   // call per point here.
   const Eigen::Matrix3f r = transform.linear();
@@ -161,6 +169,7 @@ DecodeStats forEachXYZ(const RawCloud& in, const DecodePlan& plan, const Eigen::
       return;
     }
     ++stats.kept;
+    observe(x, y, z);
     sink(vx, vy, vz);
   };
   const auto read_all = [&](auto rotate) {

@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 
+#include "icanc/core/input/sensor_health.hpp"
 #include "icanc/core/motion/ego_motion.hpp"
 #include "icanc/core/perception/cloud_decode.hpp"
 #include "icanc/core/perception/obstacle_detector.hpp"
@@ -42,6 +43,9 @@ struct DetectorPipelineInput {
   Eigen::Affine3f to_frame = Eigen::Affine3f::Identity();  // cloud frame -> `frame`
   const Eigen::Isometry3d* fixed_T_vehicle = nullptr;     // the pose at the stamp; null: none
   bool collect_moving_points = false;
+  // When given (begun by the caller), the frame's returns are counted into it for the
+  // blind-sensor check: in the fast detector's own pass over the cloud, else in a pass of its own.
+  ReturnCounter* returns = nullptr;
 };
 
 struct DetectorPipelineResult {
