@@ -44,20 +44,15 @@ void ReturnCounter::begin(const SensorHealthParams& params) {
   min2_ = static_cast<float>(params.min_range_m * params.min_range_m);
   max2_ = static_cast<float>(params.max_range_m * params.max_range_m);
   valid_total_ = 0;
-  if (params.sectors <= 1) {
-    sector_ = nullptr;
-    counts_.valid.clear();
-    counts_.returned.clear();
-    whole_[0] = whole_[1] = 0;
-    returned_ = &whole_[0];
-    valid_ = &whole_[1];
-    return;
-  }
-  sector_ = sectorTable(params.sectors);
-  counts_.valid.assign(params.sectors, 0);
-  counts_.returned.assign(params.sectors, 0);
-  returned_ = counts_.returned.data();
-  valid_ = counts_.valid.data();
+  sector_ = params.sectors > 1 ? sectorTable(params.sectors) : nullptr;
+  const std::size_t n = static_cast<std::size_t>(std::max(1, params.sectors));
+  counts_.valid.assign(n, 0);
+  counts_.returned.assign(n, 0);
+}
+
+const SectorReturns& ReturnCounter::sectors() const {
+  static const SectorReturns kNone;
+  return sector_ != nullptr ? counts_ : kNone;
 }
 
 std::string validate(const SensorHealthParams& params) {

@@ -62,14 +62,14 @@ class ReturnCounter {
     const std::uint32_t in = r2 <= max2_;
     const std::uint32_t valid = in & (r2 >= min2_);
     const int k = sector_ == nullptr ? 0 : sectorOf(x, y);
-    returned_[k] += in;
-    valid_[k] += valid;
+    counts_.returned[k] += in;
+    counts_.valid[k] += valid;
     valid_total_ += valid;
   }
   // Valid returns (range in [min_range_m, max_range_m]) since begin().
   std::size_t valid() const { return valid_total_; }
   // The counts per sector (empty with params.sectors <= 1).
-  const SectorReturns& sectors() const { return counts_; }
+  const SectorReturns& sectors() const;
 
  private:
   // Sector of the direction (x, y) by table over the "diamond angle" in [0, 4) (one unit per
@@ -88,10 +88,7 @@ class ReturnCounter {
 
   float min2_ = 0.0f, max2_ = 0.0f;
   const std::uint8_t* sector_ = nullptr;  // null: one sector
-  SectorReturns counts_;
-  std::uint32_t* returned_ = nullptr;
-  std::uint32_t* valid_ = nullptr;
-  std::uint32_t whole_[2] = {0, 0};  // returned, valid with one sector
+  SectorReturns counts_{{0}, {0}};        // one entry per sector (one with a single sector)
   std::size_t valid_total_ = 0;
 };
 
