@@ -125,7 +125,8 @@ class ObstacleDetectorNodelet : public nodelet::Nodelet {
     in.returns = &checks_.beginCount();
     const DetectorPipelineResult r = pipeline_->process(in);
     // A blind sensor (too few valid returns) is flagged in the output: it lights the lamp.
-    const std::size_t valid_points = checks_.checkHealth(static_cast<std::size_t>(raw.width) * raw.height);
+    const std::size_t valid_points =
+        checks_.checkHealth(static_cast<std::size_t>(raw.width) * raw.height);
     status_.logFrame(*pipeline_, r, t, msg.header.frame_id, stamp_s);
 
     auto out = boost::make_shared<ObstacleArray>();

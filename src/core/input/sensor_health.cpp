@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <memory>
 #include <sstream>
 
 namespace icanc {
@@ -14,9 +13,9 @@ constexpr int kMaxSectors = 72;
 
 }  // namespace
 
-// The table maps each of the 4 * kBinsPerQuadrant diamond-angle bins to its sector: 1024 bins per
-// quadrant put a boundary at most a tenth of a degree off the sector's exact edge.
-const std::uint8_t* ReturnCounter::sectorTable(int sectors) {
+// Each of the 4 * kBinsPerQuadrant diamond-angle bins to its sector: 1024 bins per quadrant put a
+// boundary at most a tenth of a degree off the sector's exact edge.
+const std::uint8_t* health_detail::sectorTable(int sectors) {
   thread_local int built_for = 0;
   thread_local std::array<std::uint8_t, 4 * kBinsPerQuadrant> table{};
   if (built_for != sectors) {
@@ -35,16 +34,14 @@ const std::uint8_t* ReturnCounter::sectorTable(int sectors) {
 }
 
 int azimuthSector(float x, float y, int sectors) {
-  ReturnCounter counter;
-  counter.sector_ = ReturnCounter::sectorTable(sectors);
-  return counter.sectorOf(x, y);
+  return health_detail::sectorOf(health_detail::sectorTable(sectors), x, y);
 }
 
 void ReturnCounter::begin(const SensorHealthParams& params) {
   min2_ = static_cast<float>(params.min_range_m * params.min_range_m);
   max2_ = static_cast<float>(params.max_range_m * params.max_range_m);
   valid_total_ = 0;
-  sector_ = params.sectors > 1 ? sectorTable(params.sectors) : nullptr;
+  sector_ = params.sectors > 1 ? health_detail::sectorTable(params.sectors) : nullptr;
   const std::size_t n = static_cast<std::size_t>(std::max(1, params.sectors));
   counts_.valid.assign(n, 0);
   counts_.returned.assign(n, 0);

@@ -28,23 +28,18 @@ DetectorPipelineResult DetectorPipeline::process(const DetectorPipelineInput& in
   detector_.setSensorOrigin(in.to_frame.translation());  // the cloud frame's origin
 
   DecodeStats stats;
+  // Each point the detector reads, as the message has it, for the blind-sensor check.
   ReturnCounter* const returns = in.returns;
-  if (detector_.fast() && returns != nullptr) {
+  const auto count = [returns](float x, float y, float z) {
+    if (returns != nullptr) returns->add(x, y, z);
+  };
+  if (detector_.fast()) {
     result.tracker = detector_.processFrom(
         in.stamp_s,
-        [&](auto&& sink) {
-          stats = forEachXYZ(*in.raw, *in.plan, in.to_frame, sink,
-                             [returns](float x, float y, float z) { returns->add(x, y, z); });
-        },
-        &result.times);
-  } else if (detector_.fast()) {
-    result.tracker = detector_.processFrom(
-        in.stamp_s, [&](auto&& sink) { stats = forEachXYZ(*in.raw, *in.plan, in.to_frame, sink); },
+        [&](auto&& sink) { stats = forEachXYZ(*in.raw, *in.plan, in.to_frame, sink, count); },
         &result.times);
   } else {
-    if (returns != nullptr)
-      forEachXYZ(*in.raw, *in.plan, Eigen::Affine3f::Identity(),
-                 [returns](float x, float y, float z) { returns->add(x, y, z); });
+    if (returns != nullptr) forEachXYZ(*in.raw, *in.plan, Eigen::Affine3f::Identity(), count);
     decodeXYZ(*in.raw, in.to_frame, max_points_, cloud_, &stats);
     result.tracker = detector_.process(in.stamp_s, cloud_, &result.times);
     result.ground_fault = countGround();

@@ -50,6 +50,21 @@ struct SectorReturns {
   std::vector<std::uint32_t> returned;  // finite, non-zero and within max_range_m, nearer ones too
 };
 
+namespace health_detail {
+constexpr int kBinsPerQuadrant = 1024;
+// The table of azimuth sectors over the "diamond angle" bins, built once per thread and count.
+const std::uint8_t* sectorTable(int sectors);
+// Sector of the direction (x, y) by that table over the diamond angle in [0, 4) (one unit per
+// quadrant): a division instead of a transcendental call per point.
+inline int sectorOf(const std::uint8_t* table, float x, float y) {
+  if (x == 0.0f && y == 0.0f) return table[0];
+  const float d = y >= 0.0f ? (x >= 0.0f ? y / (x + y) : 1.0f - x / (y - x))
+                            : (x < 0.0f ? 2.0f - y / (-x - y) : 3.0f + x / (x - y));
+  const int b = static_cast<int>(d * kBinsPerQuadrant);
+  return table[b < 4 * kBinsPerQuadrant - 1 ? b : 4 * kBinsPerQuadrant - 1];
+}
+}  // namespace health_detail
+
 // Counts a frame's returns point by point, in the sensor frame, so that a pass over the cloud made
 // for something else (the fast detector's decode) counts them too: no second pass for the check.
 class ReturnCounter {
@@ -61,7 +76,7 @@ class ReturnCounter {
     const float r2 = x * x + y * y + z * z;
     const std::uint32_t in = r2 <= max2_;
     const std::uint32_t valid = in & (r2 >= min2_);
-    const int k = sector_ == nullptr ? 0 : sectorOf(x, y);
+    const int k = sector_ == nullptr ? 0 : health_detail::sectorOf(sector_, x, y);
     counts_.returned[k] += in;
     counts_.valid[k] += valid;
     valid_total_ += valid;
@@ -72,22 +87,8 @@ class ReturnCounter {
   const SectorReturns& sectors() const;
 
  private:
-  // Sector of the direction (x, y) by table over the "diamond angle" in [0, 4) (one unit per
-  // quadrant): a division instead of a transcendental call per point.
-  int sectorOf(float x, float y) const {
-    if (x == 0.0f && y == 0.0f) return sector_[0];
-    const float d = y >= 0.0f ? (x >= 0.0f ? y / (x + y) : 1.0f - x / (y - x))
-                              : (x < 0.0f ? 2.0f - y / (-x - y) : 3.0f + x / (x - y));
-    const int b = static_cast<int>(d * kBinsPerQuadrant);
-    return sector_[b < 4 * kBinsPerQuadrant - 1 ? b : 4 * kBinsPerQuadrant - 1];
-  }
-
-  static constexpr int kBinsPerQuadrant = 1024;
-  friend int azimuthSector(float x, float y, int sectors);
-  static const std::uint8_t* sectorTable(int sectors);  // built once per thread and count
-
   float min2_ = 0.0f, max2_ = 0.0f;
-  const std::uint8_t* sector_ = nullptr;  // null: one sector
+  const std::uint8_t* sector_ = nullptr;  // health_detail::sectorTable; null: one sector
   SectorReturns counts_{{0}, {0}};        // one entry per sector (one with a single sector)
   std::size_t valid_total_ = 0;
 };
