@@ -26,6 +26,9 @@
 
 namespace icanc {
 
+// The earliest a rearmed timer fires after now (s).
+constexpr double kSoonestRearmS = 1e-4;
+
 class LightControllerNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
@@ -37,7 +40,6 @@ class LightControllerNodelet : public nodelet::Nodelet {
     const LightControllerParams& params = settings.params;
     fault_levels_ = faultLevels(settings.lamp);
     publish_rate_hz_ = settings.publish_rate_hz;
-    tick_rate_hz_ = settings.tick_rate_hz;
     if (!checkParams(getName(), reader, why)) {
       startFault(reader.error().empty() ? why : reader.error());
       return;
@@ -56,11 +58,11 @@ class LightControllerNodelet : public nodelet::Nodelet {
     lamp_.advertise(nh, pnh, true, settings.marker_style);
     sub_ = nh.subscribe("obstacles_danger", 5, &LightControllerNodelet::onDanger, this);
     input_.reset(new InputMonitor(diagnostics_->updater(), sub_.getTopic(), settings.expected_rate_hz));
-    timer_ = nh.createTimer(ros::Duration(1.0 / tick_rate_hz_), &LightControllerNodelet::onTick, this);
-    // A tick slower than the watchdog's own rate must not delay the fail-safe lamp: the watchdog
-    // then gets a timer of its own (icanc::kWatchdogRateHz).
-    if (tick_rate_hz_ < kWatchdogRateHz)
-      watchdog_timer_ = nh.createTimer(ros::Duration(1.0 / kWatchdogRateHz), &LightControllerNodelet::onWatchdog, this);
+    // No fixed tick: one timer whose next expiry rearm moves to the lamp's next event or the next
+    // steady publication, whichever comes first, so the manager wakes only when there is work.
+    // Periodic, not one-shot: roscpp parks a one-shot timer for ever after its callback, which
+    // would undo a rearm made inside it; the period left behind is only a fallback.
+    timer_ = nh.createTimer(ros::Duration(1.0 / publish_rate_hz_), &LightControllerNodelet::onTimer, this);
     if (params.illumination_enabled) {  // camera illumination gate (IlluminationMonitor)
       illumination_sub_ = nh.subscribe("illumination", 5, &LightControllerNodelet::onIllumination, this);
       NODELET_INFO("LightController: illumination gate on %s (no danger lamp in daylight)",
@@ -108,6 +110,7 @@ class LightControllerNodelet : public nodelet::Nodelet {
                              "segment on", msg->num_dangerous, boxes_.size());
     // Every input is answered (replay tools wait for it); changes are among them.
     publish(now, true);
+    rearm(now);
     input_->processed((ros::WallTime::now() - received).toSec() * 1e3);
   }
 
@@ -118,16 +121,12 @@ class LightControllerNodelet : public nodelet::Nodelet {
     const bool changed = control_->onIllumination(now.toSec(), msg->state, invalid);
     if (invalid) NODELET_ERROR_THROTTLE(5.0, "illumination state %u is invalid: treated as unknown", msg->state);
     if (changed) publish(now, false);
+    rearm(now);
   }
 
-  void onTick(const ros::TimerEvent&) { advance(true); }
-
-  // The watchdog's own timer (only while tick_rate_hz is slower): a change is published at once,
-  // the steady publication stays the tick's.
-  void onWatchdog(const ros::TimerEvent&) { advance(false); }
-
-  void advance(bool steady_publication) {
+  void onTimer(const ros::TimerEvent&) {
     std::lock_guard<std::mutex> lock(mutex_);
+    armed_at_ = ros::Time();  // it fired: rearm below whatever the instant
     applyTunedParams();
     const ros::Time now = ros::Time::now();
     bool stale_event = false;
@@ -135,14 +134,33 @@ class LightControllerNodelet : public nodelet::Nodelet {
     if (stale_event)
       NODELET_WARN("no input on %s for %.2f s: lamp ON (fail-safe)", sub_.getTopic().c_str(),
                    control_->binary().params().stale_timeout_s);
-    // ROS durations, not differences of seconds: a replay's publications fall on the same ticks.
-    const bool due = steady_publication &&
-                     ((now - lamp_.lastPublished()).toSec() >= 1.0 / publish_rate_hz_ ||
-                      now < lamp_.lastPublished());
-    if (changed || due) publish(now, false);
+    if (changed || steadyPublicationDue(now) <= now) publish(now, false);
+    rearm(now);
   }
 
-  // With mutex_ held: a dynamic_reconfigure change, from this input or tick on.
+  // When the steady publication is next due: publish_rate_hz after the last one (at once when
+  // time went backwards, a bag loop). ROS durations, not differences of seconds: a replay's
+  // publications fall on the same instants.
+  ros::Time steadyPublicationDue(const ros::Time& now) const {
+    const ros::Time last = lamp_.lastPublished();
+    return now < last ? now : last + ros::Duration(1.0 / publish_rate_hz_);
+  }
+
+  // With mutex_ held: the one-shot timer at the earlier of the lamp's next event and the next
+  // steady publication; touched only when that instant moved.
+  void rearm(const ros::Time& now) {
+    ros::Time at = steadyPublicationDue(now);
+    const double event = control_->nextEvent();
+    if (event < at.toSec()) at.fromSec(event);
+    // Never a zero period: a periodic timer would then fire without pause.
+    const ros::Time soonest = now + ros::Duration(kSoonestRearmS);
+    if (at < soonest) at = soonest;
+    if (at == armed_at_) return;
+    armed_at_ = at;
+    timer_.setPeriod(at - now, true);
+  }
+
+  // With mutex_ held: a dynamic_reconfigure change, from this input or timer on.
   void applyTunedParams() {
     LightControllerParams tuned;
     if (live_->take(tuned)) control_->setParams(tuned);
@@ -163,10 +181,9 @@ class LightControllerNodelet : public nodelet::Nodelet {
   std::unique_ptr<LiveParams<LightControllerConfig, LightControllerParams>> live_;
   ros::Subscriber sub_;
   ros::Subscriber illumination_sub_;
-  ros::Timer timer_;
-  ros::Timer watchdog_timer_;  // only while tick_rate_hz < kWatchdogRateHz
+  ros::Timer timer_;       // moved by rearm (a plain publication timer on the fault path)
+  ros::Time armed_at_;     // when timer_ fires next
   double publish_rate_hz_ = 10.0;
-  double tick_rate_hz_ = 50.0;
 
   std::mutex mutex_;  // subscriber, timer and diagnostics callbacks
   std::string fault_;  // why the controller could not start ("" when it runs)

@@ -83,7 +83,7 @@ TEST(Approach, LampOnAtSpeedTimesReactionTimeAndOffTauAfterDangerEnds) {
               "t = %.2f s (tau %.1f s)\n", t_last_danger, t_trigger, t_off, tau);
   EXPECT_GT(t_last_danger, walker.stop_s - 1.0) << "danger should last until the object stops";
   EXPECT_GE(t_off, t_trigger + tau);
-  EXPECT_LE(t_off, t_trigger + tau + 0.15 * latencySlack());  // processing latency + 50 Hz tick
+  EXPECT_LE(t_off, t_trigger + tau + 0.15 * latencySlack());  // processing latency
   EXPECT_GT(t_off, t_last_danger);
   EXPECT_LE(t_off, t_last_danger + tau + 0.15 * latencySlack());
   // And it stays off while clouds flow: the stopped object is no danger. (After the last cloud the

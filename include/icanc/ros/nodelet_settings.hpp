@@ -13,14 +13,13 @@
 
 namespace icanc {
 
-// The LightController's private parameters: both lamps', its clocks, its input's rate and its
+// The LightController's private parameters: both lamps', its publication rate, its input's rate and its
 // markers' lifetime (~marker_lifetime_s); ~trace_publications and the dynamic_reconfigure names
 // are marked known (ZeroCopyPublisher and LiveParams read them).
 struct LightControllerSettings {
   LightControllerParams params;
   SegmentLampParams lamp;
   double publish_rate_hz = 10.0;   // steady republication of the lamp [Hz]
-  double tick_rate_hz = 50.0;      // the state machine's timer [Hz]
   double expected_rate_hz = 10.0;  // the input's rate [Hz]
   MarkerStyle marker_style;
 };

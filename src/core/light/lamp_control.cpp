@@ -59,6 +59,10 @@ bool LampControl::tick(double now, bool& stale_event) {
   return changed || segments_changed;
 }
 
+double LampControl::nextEvent() const {
+  return std::min(controller_.nextEvent(), segmented_.nextEvent());
+}
+
 void LampControl::published(bool on) {
   if (on != last_on_) ++transitions_;
   last_on_ = on;

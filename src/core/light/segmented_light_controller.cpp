@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace icanc {
 
@@ -53,6 +54,12 @@ bool SegmentedLightController::tick(double now) {
   for (LightController& t : timers_) changed = t.tick(now) || changed;
   binary_.tick(now);
   return changed;
+}
+
+double SegmentedLightController::nextEvent() const {
+  double next = std::numeric_limits<double>::infinity();
+  for (const LightController& t : timers_) next = std::min(next, t.nextEvent());
+  return next;
 }
 
 bool SegmentedLightController::onIllumination(double now, Illumination state) {

@@ -1,6 +1,8 @@
 // Pins the LightController nodelet's logic around the two lamps: danger of unknown place lights
 // every segment, invalid illumination states are unknown, the stale watchdog is an event once,
 // transitions and inputs are counted, the report's levels and messages, and the fault path.
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include "icanc/core/light/lamp_control.hpp"
@@ -128,6 +130,39 @@ TEST(LampControl, FaultPathLightsEverySegment) {
   EXPECT_EQ(r.message, "cannot start, lamp on (fail-safe): invalid parameters: tau_s must be > 0");
   EXPECT_EQ(r.value("lamp on"), "True");
   EXPECT_EQ(r.value("reason"), toString(LightReason::kFault));
+}
+
+// Both lamps, ticked only at inputs and at nextEvent(), are both lamps ticked every
+// millisecond: the segments' timers run on their own and every one of them is an event.
+TEST(LampControl, TickingOnlyAtNextEventMissesNoSegmentChange) {
+  const std::vector<Eigen::AlignedBox2d> places = {
+      Eigen::AlignedBox2d(Eigen::Vector2d(10.0, 3.0), Eigen::Vector2d(11.0, 4.0)),
+      Eigen::AlignedBox2d(Eigen::Vector2d(10.0, -0.5), Eigen::Vector2d(11.0, 0.5)),
+      Eigen::AlignedBox2d(Eigen::Vector2d(10.0, -4.0), Eigen::Vector2d(11.0, -3.0))};
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    std::srand(seed);
+    LampControl dense(params(), threeSegments()), lazy(params(), threeSegments());
+    long next_input_ms = 0;
+    for (long ms = 0; ms < 20000; ++ms) {
+      const double now = ms * 1e-3;
+      bool stale = false;
+      dense.tick(now, stale);
+      if (now >= lazy.nextEvent()) lazy.tick(now, stale);
+      if (ms == next_input_ms) {
+        std::vector<Eigen::AlignedBox2d> boxes;
+        for (const auto& b : places)
+          if (std::rand() % 5 == 0) boxes.push_back(b);
+        const bool blind = std::rand() % 15 == 0;
+        dense.onInput(now, boxes.size(), blind, boxes);
+        lazy.onInput(now, boxes.size(), blind, boxes);
+        next_input_ms += std::rand() % 8 == 0 ? 300 + std::rand() % 900 : 100;
+      }
+      ASSERT_EQ(lazy.segmented().levels(), dense.segmented().levels()) << "seed " << seed << " at " << now;
+      ASSERT_EQ(lazy.segmented().reason(), dense.segmented().reason()) << "seed " << seed << " at " << now;
+      ASSERT_EQ(lazy.binary().on(), dense.binary().on()) << "seed " << seed << " at " << now;
+      ASSERT_EQ(lazy.binary().reason(), dense.binary().reason()) << "seed " << seed << " at " << now;
+    }
+  }
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Pins the light controller to the paper's state diagram and the fail-safe watchdog.
 #include <cmath>
+#include <cstdlib>
 
 #include <gtest/gtest.h>
 
@@ -128,18 +129,73 @@ TEST(LightController, WatchdogTimeoutZeroNegativeOrHugeIsRefused) {
   EXPECT_EQ(validate(p), "");
 }
 
-// A slow publish or tick rate never silences the lamp side. Rates below the floor, or a
-// tick slower than the publication, are refused with the key named; the watchdog's own timer
-// runs at least as often as a tick of the usual profiles.
-TEST(LightController, PublishAndTickRatesBelowTheFloorAreRefused) {
-  EXPECT_EQ(validateRates(10.0, 50.0), "");
-  EXPECT_EQ(validateRates(kMinPublishRateHz, kMinPublishRateHz), "");
+// A slow publish rate never silences the lamp side: rates below the floor are refused with the
+// key named.
+TEST(LightController, PublishRatesBelowTheFloorAreRefused) {
+  EXPECT_EQ(validatePublishRate(10.0), "");
+  EXPECT_EQ(validatePublishRate(kMinPublishRateHz), "");
   for (double bad : {0.01, 0.0, -1.0, 1.99, 1e4, std::nan("")})
-    EXPECT_NE(validateRates(bad, 50.0).find("publish_rate_hz"), std::string::npos) << bad;
-  for (double bad : {0.01, 5.0, 1e4, std::nan("")})
-    EXPECT_NE(validateRates(10.0, bad).find("tick_rate_hz"), std::string::npos) << bad;
-  // The watchdog's own timer fires well within the shortest useful stale_timeout_s.
-  EXPECT_LE(1.0 / kWatchdogRateHz, LightControllerParams().stale_timeout_s / 4.0);
+    EXPECT_NE(validatePublishRate(bad).find("publish_rate_hz"), std::string::npos) << bad;
+}
+
+// The nodelet wakes only at nextEvent(): the timer's end, the watchdog's instant, a bright report
+// going stale.
+TEST(LightController, NextEventIsTheTimersEndOrTheWatchdogsInstant) {
+  LightControllerParams p;
+  p.tau_s = 2.0;
+  p.stale_timeout_s = 0.3;
+  LightController c(p);
+  EXPECT_TRUE(std::isinf(c.nextEvent()));  // no input yet: stale until one comes
+  c.onInput(10.0, false);
+  EXPECT_NEAR(c.nextEvent(), 10.3, 1e-5);
+  EXPECT_FALSE(c.tick(c.nextEvent() - 1e-4));
+  EXPECT_TRUE(c.tick(c.nextEvent()));
+  EXPECT_EQ(c.reason(), LightReason::kSensorStale);
+  EXPECT_TRUE(std::isinf(c.nextEvent()));  // stale until the next input
+  c.onInput(11.0, true);
+  c.onInput(11.2, false);
+  EXPECT_NEAR(c.nextEvent(), 11.5, 1e-5);
+  p.watchdog_enabled = false;
+  c.setParams(p);
+  EXPECT_NEAR(c.nextEvent(), 13.0, 1e-6);  // only the timer's end
+  EXPECT_TRUE(c.tick(13.0));
+  EXPECT_FALSE(c.on());
+}
+
+// A controller ticked only at inputs and at its nextEvent() is the controller ticked every
+// millisecond, at every millisecond, over random inputs, blind frames, illumination reports
+// and gaps longer than the watchdog.
+TEST(LightController, TickingOnlyAtNextEventMissesNoChange) {
+  LightControllerParams p;
+  p.tau_s = 1.5;
+  p.recheck_below_s = 0.5;
+  p.stale_timeout_s = 0.3;
+  p.illumination_enabled = true;
+  p.illumination_stale_timeout_s = 0.7;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    std::srand(seed);
+    LightController dense(p), lazy(p);
+    long next_input_ms = 0, next_report_ms = 0;
+    for (long ms = 0; ms < 20000; ++ms) {
+      const double now = ms * 1e-3;
+      dense.tick(now);
+      if (now >= lazy.nextEvent()) lazy.tick(now);
+      if (ms == next_report_ms) {
+        const Illumination state = std::rand() % 2 ? Illumination::kBright : Illumination::kDark;
+        dense.onIllumination(now, state);
+        lazy.onIllumination(now, state);
+        next_report_ms += 200 + std::rand() % 1500;
+      }
+      if (ms == next_input_ms) {
+        const bool danger = std::rand() % 4 == 0, blind = std::rand() % 10 == 0;
+        dense.onInput(now, danger, blind);
+        lazy.onInput(now, danger, blind);
+        next_input_ms += std::rand() % 8 == 0 ? 200 + std::rand() % 800 : 100;
+      }
+      ASSERT_EQ(lazy.on(), dense.on()) << "seed " << seed << " at " << now;
+      ASSERT_EQ(lazy.reason(), dense.reason()) << "seed " << seed << " at " << now;
+    }
+  }
 }
 
 TEST(LightController, OnlyTheExplicitSwitchDisablesTheWatchdog) {

@@ -44,6 +44,8 @@ class LampControl {
   // Advances both lamps. True when one changed; `stale_event` when the binary lamp just turned
   // on for want of input (counted).
   bool tick(double now, bool& stale_event);
+  // When tick() next changes a lamp without new input (infinity: not before the next input).
+  double nextEvent() const;
   // The lamp was published ON or OFF (counts transitions).
   void published(bool on);
 

@@ -42,16 +42,14 @@ constexpr double kMaxStaleTimeoutS = 5.0;  // a longer watchdog is no watchdog a
 
 std::string validate(const LightControllerParams& params);
 
-// The nodelet's clocks. The watchdog is evaluated at kWatchdogRateHz on a timer of its own
-// whenever tick_rate_hz is slower, so no tick or publish rate can delay the fail-safe lamp by
-// more than 1 / kWatchdogRateHz beyond stale_timeout_s. publish_rate_hz has a floor: the
+// The nodelet has no periodic tick: it wakes at nextEvent() (timer expiry, watchdog, stale
+// illumination) and when the steady publication is due. publish_rate_hz has a floor: the
 // LightBridge commands the lamp ON when lamp_cmd is silent for its cmd_stale_timeout_s (1 s),
 // so a slower steady rate would only make the bridge light the lamp between publications.
-constexpr double kWatchdogRateHz = 20.0;
 constexpr double kMinPublishRateHz = 2.0;
 constexpr double kMaxRateHz = 1000.0;
-// "" when the rates are usable, else why, naming the key.
-std::string validateRates(double publish_rate_hz, double tick_rate_hz);
+// "" when the rate is usable, else why, naming the key.
+std::string validatePublishRate(double publish_rate_hz);
 
 // kFault: the controller could not start (invalid parameters); the nodelet publishes lamp ON.
 enum class LightReason : std::uint8_t {
@@ -70,6 +68,10 @@ class LightController {
   // Advances the clock without input: timer expiry and watchdog. Returns true when on() or
   // reason() changed.
   bool tick(double now);
+  // The first time at which tick() changes on() or reason() unless an input or illumination
+  // report comes first (the danger timer's end, the watchdog's, a bright report going stale);
+  // infinity when none is pending.
+  double nextEvent() const;
 
   // Restarts a running danger timer to tau at `now` whatever is left of it (recheck_below_s does
   // not apply); false when no timer runs (or in daylight). The segmented lamp uses it to keep a

@@ -40,6 +40,7 @@ class SegmentedLightController {
   void onInput(double now, const std::vector<Eigen::AlignedBox2d>& dangerous, bool sensor_blind,
                bool unlocated_danger = false);
   bool tick(double now);  // true when a level or the reason changed
+  double nextEvent() const;  // the earliest of the segments' (LightController::nextEvent)
   bool onIllumination(double now, Illumination state);
 
   std::vector<float> levels() const;  // 0..1 per segment, in profile order
