@@ -1,7 +1,7 @@
 // Pins the LightController nodelet's logic around the two lamps: danger of unknown place lights
 // every segment, invalid illumination states are unknown, the stale watchdog is an event once,
 // transitions and inputs are counted, the report's levels and messages, and the fault path.
-#include <cstdlib>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -140,7 +140,8 @@ TEST(LampControl, TickingOnlyAtNextEventMissesNoSegmentChange) {
       Eigen::AlignedBox2d(Eigen::Vector2d(10.0, -0.5), Eigen::Vector2d(11.0, 0.5)),
       Eigen::AlignedBox2d(Eigen::Vector2d(10.0, -4.0), Eigen::Vector2d(11.0, -3.0))};
   for (unsigned seed = 1; seed <= 10; ++seed) {
-    std::srand(seed);
+    std::mt19937 rng(seed);
+    const auto roll = [&rng](unsigned n) { return static_cast<int>(rng() % n); };
     LampControl dense(params(), threeSegments()), lazy(params(), threeSegments());
     long next_input_ms = 0;
     for (long ms = 0; ms < 20000; ++ms) {
@@ -151,11 +152,11 @@ TEST(LampControl, TickingOnlyAtNextEventMissesNoSegmentChange) {
       if (ms == next_input_ms) {
         std::vector<Eigen::AlignedBox2d> boxes;
         for (const auto& b : places)
-          if (std::rand() % 5 == 0) boxes.push_back(b);
-        const bool blind = std::rand() % 15 == 0;
+          if (roll(5) == 0) boxes.push_back(b);
+        const bool blind = roll(15) == 0;
         dense.onInput(now, boxes.size(), blind, boxes);
         lazy.onInput(now, boxes.size(), blind, boxes);
-        next_input_ms += std::rand() % 8 == 0 ? 300 + std::rand() % 900 : 100;
+        next_input_ms += roll(8) == 0 ? 300 + roll(900) : 100;
       }
       ASSERT_EQ(lazy.segmented().levels(), dense.segmented().levels()) << "seed " << seed << " at " << now;
       ASSERT_EQ(lazy.segmented().reason(), dense.segmented().reason()) << "seed " << seed << " at " << now;

@@ -1,6 +1,6 @@
 // Pins the light controller to the paper's state diagram and the fail-safe watchdog.
 #include <cmath>
-#include <cstdlib>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -173,7 +173,8 @@ TEST(LightController, TickingOnlyAtNextEventMissesNoChange) {
   p.illumination_enabled = true;
   p.illumination_stale_timeout_s = 0.7;
   for (unsigned seed = 1; seed <= 20; ++seed) {
-    std::srand(seed);
+    std::mt19937 rng(seed);
+    const auto roll = [&rng](unsigned n) { return static_cast<int>(rng() % n); };
     LightController dense(p), lazy(p);
     long next_input_ms = 0, next_report_ms = 0;
     for (long ms = 0; ms < 20000; ++ms) {
@@ -181,16 +182,16 @@ TEST(LightController, TickingOnlyAtNextEventMissesNoChange) {
       dense.tick(now);
       if (now >= lazy.nextEvent()) lazy.tick(now);
       if (ms == next_report_ms) {
-        const Illumination state = std::rand() % 2 ? Illumination::kBright : Illumination::kDark;
+        const Illumination state = roll(2) ? Illumination::kBright : Illumination::kDark;
         dense.onIllumination(now, state);
         lazy.onIllumination(now, state);
-        next_report_ms += 200 + std::rand() % 1500;
+        next_report_ms += 200 + roll(1500);
       }
       if (ms == next_input_ms) {
-        const bool danger = std::rand() % 4 == 0, blind = std::rand() % 10 == 0;
+        const bool danger = roll(4) == 0, blind = roll(10) == 0;
         dense.onInput(now, danger, blind);
         lazy.onInput(now, danger, blind);
-        next_input_ms += std::rand() % 8 == 0 ? 200 + std::rand() % 800 : 100;
+        next_input_ms += roll(8) == 0 ? 200 + roll(800) : 100;
       }
       ASSERT_EQ(lazy.on(), dense.on()) << "seed " << seed << " at " << now;
       ASSERT_EQ(lazy.reason(), dense.reason()) << "seed " << seed << " at " << now;
