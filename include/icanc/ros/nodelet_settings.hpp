@@ -13,9 +13,9 @@
 
 namespace icanc {
 
-// The LightController's private parameters: both lamps', its publication rate, its input's rate and its
-// markers' lifetime (~marker_lifetime_s); ~trace_publications and the dynamic_reconfigure names
-// are marked known (ZeroCopyPublisher and LiveParams read them).
+// The LightController's private parameters: both lamps', its publication rate, its input's rate
+// and its markers' lifetime (~marker_lifetime_s); ~trace_publications and the dynamic_reconfigure
+// names are marked known (ZeroCopyPublisher and LiveParams read them).
 struct LightControllerSettings {
   LightControllerParams params;
   SegmentLampParams lamp;
