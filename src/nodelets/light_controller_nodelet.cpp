@@ -146,8 +146,8 @@ class LightControllerNodelet : public nodelet::Nodelet {
     return now < last ? now : last + ros::Duration(1.0 / publish_rate_hz_);
   }
 
-  // With mutex_ held: the one-shot timer at the earlier of the lamp's next event and the next
-  // steady publication; touched only when that instant moved.
+  // With mutex_ held: timer_ at the earlier of the lamp's next event and the next steady
+  // publication; touched only when that instant moved.
   void rearm(const ros::Time& now) {
     ros::Time at = steadyPublicationDue(now);
     const double event = control_->nextEvent();

@@ -6,6 +6,12 @@
 
 namespace icanc {
 
+namespace {
+// Stamps are seconds as doubles (1.3 - 1.0 > 0.3): every threshold on them is compared with this
+// slack, and nextEvent() names the instants tick() sees past it.
+constexpr double kStampSlackS = 1e-9;
+}  // namespace
+
 std::string validate(const LightControllerParams& params) {
   std::ostringstream why;
   if (!(params.tau_s > 0.0 && params.tau_s <= 60.0))
@@ -55,7 +61,7 @@ void LightController::reset() {
 
 void LightController::updateDaylight(double now) {
   daylight_ = params_.illumination_enabled && illumination_ == Illumination::kBright &&
-              now - illumination_s_ <= params_.illumination_stale_timeout_s + 1e-9;
+              now - illumination_s_ <= params_.illumination_stale_timeout_s + kStampSlackS;
   if (daylight_) timer_running_ = false;  // no danger lamp in daylight
 }
 
@@ -66,20 +72,19 @@ bool LightController::tick(double now) {
   has_now_ = true;
   last_now_s_ = now;
 
-  if (timer_running_ && now >= timer_end_s_ - 1e-9) timer_running_ = false;
-  // 1 ns of slack: stamps in seconds as doubles (1.3 - 1.0 > 0.3).
+  if (timer_running_ && now >= timer_end_s_ - kStampSlackS) timer_running_ = false;
   stale_ = !has_input_ || (params_.watchdog_enabled &&
-                           now - last_input_s_ > params_.stale_timeout_s + 1e-9);
+                           now - last_input_s_ > params_.stale_timeout_s + kStampSlackS);
   updateDaylight(now);
   return was_on != on() || was_reason != reason();
 }
 
 double LightController::nextEvent() const {
-  // With tick()'s slack: the timer ends 1 ns early, the watchdog and the daylight fire past
-  // their thresholds by more than it, so tick() at the returned time sees the change.
+  // With tick()'s slack: the timer ends kStampSlackS early, the watchdog and the daylight fire
+  // past their thresholds by more than it, so tick() at the returned time sees the change.
   constexpr double kPast = 1e-6;
   double next = std::numeric_limits<double>::infinity();
-  if (timer_running_) next = timer_end_s_ - 1e-9;
+  if (timer_running_) next = timer_end_s_ - kStampSlackS;
   if (params_.watchdog_enabled && has_input_ && !stale_)
     next = std::min(next, last_input_s_ + params_.stale_timeout_s + kPast);
   if (daylight_) next = std::min(next, illumination_s_ + params_.illumination_stale_timeout_s + kPast);
@@ -103,7 +108,7 @@ bool LightController::onInput(double now, bool any_danger, bool sensor_blind) {
   stale_ = false;
   blind_ = sensor_blind;
   if (!any_danger || daylight_) return false;
-  if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + 1e-9) return false;  // ignored
+  if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + kStampSlackS) return false;  // ignored
   timer_running_ = true;
   timer_end_s_ = now + params_.tau_s;
   last_trigger_s_ = now;
