@@ -11,8 +11,11 @@
 // distance <= --rigid-m) outnumber those whose distance changes, and there is at least one.
 //
 //   icanc_kitti_odometry [--kitti DIR] [--profile PROFILE.yaml] [--frames N] [--per-track]
+//                        [--frame-below H]
 // DIR defaults to ../shared/data/kitti_tracking_0000 (skipped with a message when absent);
-// PROFILE to config/kitti_hdl64e.yaml (its lidar_odometry section).
+// PROFILE to config/kitti_hdl64e.yaml (its lidar_odometry section). --frame-below H: the vehicle
+// frame H metres below the sensor (1.73: on the road), the scans and ground_max_z_m moved with it:
+// the voxel grids, laid from the vehicle frame, then meet the road elsewhere.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -70,7 +73,7 @@ int main(int argc, char** argv) {
   std::string dir = "../shared/data/kitti_tracking_0000";
   std::string profile = "config/kitti_hdl64e.yaml";
   int max_frames = 1 << 30, min_common = 5;
-  double rigid_m = 0.5;
+  double rigid_m = 0.5, frame_below = 0.0;
   bool per_track = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -86,10 +89,12 @@ int main(int argc, char** argv) {
       rigid_m = std::atof(argv[++i]);
     else if (a == "--per-track")
       per_track = true;
+    else if (a == "--frame-below" && i + 1 < argc)
+      frame_below = std::atof(argv[++i]);
     else {
       std::fprintf(stderr,
                    "usage: icanc_kitti_odometry [--kitti DIR] [--profile PROFILE.yaml] "
-                   "[--frames N] [--min-common N] [--rigid-m M] [--per-track]\n");
+                   "[--frames N] [--min-common N] [--rigid-m M] [--per-track] [--frame-below H]\n");
       return 2;
     }
   }
@@ -101,7 +106,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
-    const icanc::LidarOdometryParams params = icanc::loadProfile(profile).lidar_odometry;
+    icanc::LidarOdometryParams params = icanc::loadProfile(profile).lidar_odometry;
+    params.ground_max_z_m += frame_below;
+    const float dz = static_cast<float>(frame_below);
     icanc::LidarOdometry odometry(params);
     const auto calib = icanc::kitti::readCalib(dir + "/calib/0000.txt");
     const auto boxes =
@@ -117,7 +124,7 @@ int main(int argc, char** argv) {
       icanc::kitti::readVelodyne(path, cloud);
       const double t0 = icanc::odometryNowMs(), c0 = threadCpuMs();
       const Eigen::Isometry3d pose = odometry.registerFrom(0.1 * f, [&](auto&& sink) {
-        for (const auto& p : cloud) sink(p.x, p.y, p.z);
+        for (const auto& p : cloud) sink(p.x, p.y, p.z + dz);
       });
       ms.push_back(icanc::odometryNowMs() - t0);
       cpu_ms.push_back(threadCpuMs() - c0);
