@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
     std::map<int, std::string> type;
     for (const auto& b : boxes) {
       if (b.frame >= static_cast<int>(poses.size())) continue;
-      tracks[b.track_id][b.frame] = b.center;
+      tracks[b.track_id][b.frame] = b.center + Eigen::Vector3d(0.0, 0.0, frame_below);  // in the frame
       type[b.track_id] = b.type;
     }
     const std::set<int> still = staticTracks(tracks, type, min_common, rigid_m);
