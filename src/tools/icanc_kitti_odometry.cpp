@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
     icanc::LidarOdometryParams params = icanc::loadProfile(profile).lidar_odometry;
     params.ground_max_z_m += frame_below;
     const float dz = static_cast<float>(frame_below);
+    const Eigen::Vector3d shift(0.0, 0.0, frame_below);  // labels into the moved frame
     icanc::LidarOdometry odometry(params);
     const auto calib = icanc::kitti::readCalib(dir + "/calib/0000.txt");
     const auto boxes =
@@ -168,7 +169,7 @@ int main(int argc, char** argv) {
     std::map<int, std::string> type;
     for (const auto& b : boxes) {
       if (b.frame >= static_cast<int>(poses.size())) continue;
-      tracks[b.track_id][b.frame] = b.center + Eigen::Vector3d(0.0, 0.0, frame_below);  // in the frame
+      tracks[b.track_id][b.frame] = b.center + shift;
       type[b.track_id] = b.type;
     }
     const std::set<int> still = staticTracks(tracks, type, min_common, rigid_m);

@@ -2,9 +2,10 @@
 // at 10 Hz, then the stream stops: the lamp must go ON with reason REASON_SENSOR_STALE within
 // stale_timeout_s (plus scheduling slack) after the last input, the light controller's
 // diagnostics must say so (WARN "sensor stale") and count it, and the lamp must be OFF again
-// within two frames of the stream resuming. The same when clouds keep coming but are all malformed, so the detector
-// stops publishing. watchdog_slow_publish.test runs it with the slowest publish rate allowed:
-// the controller wakes at the watchdog's instant, not at its next publication.
+// within two frames of the stream resuming. The same when clouds keep coming but are all
+// malformed, so the detector stops publishing. watchdog_slow_publish.test runs it with the
+// slowest publish rate allowed: the controller wakes at the watchdog's instant, not at its next
+// publication.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 

@@ -108,7 +108,8 @@ bool LightController::onInput(double now, bool any_danger, bool sensor_blind) {
   stale_ = false;
   blind_ = sensor_blind;
   if (!any_danger || daylight_) return false;
-  if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + kStampSlackS) return false;  // ignored
+  // Danger while the timer has more than recheck_below_s left is ignored.
+  if (timer_running_ && timer_end_s_ - now > params_.recheck_below_s + kStampSlackS) return false;
   timer_running_ = true;
   timer_end_s_ = now + params_.tau_s;
   last_trigger_s_ = now;
